@@ -1,0 +1,114 @@
+"""Speed against accuracy: time each method at each quality setting and compare it with the CPU reference."""
+from __future__ import annotations
+
+import statistics
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Sequence
+
+import moderngl
+import numpy as np
+
+from app.gl.headless import OffscreenTarget
+
+CSV_COLUMNS = ("technique", "method", "knob_name", "knob", "scene", "width", "height",
+               "ms_median", "gpu_ms_median", "runs", "rmse", "max_abs_error")
+
+
+@dataclass
+class Method:
+    """One way to draw a technique. `output` returns what is compared with the reference, on a 0..1 scale."""
+
+    name: str
+    knob: str
+    values: Sequence[float]
+    setup: Callable[[moderngl.Context], Any]
+    render: Callable[[Any, OffscreenTarget, float, Any], None]
+    output: Callable[[Any, OffscreenTarget, float, Any], np.ndarray]
+    quick_values: Sequence[float] | None = None
+
+
+@dataclass
+class Technique:
+    name: str
+    methods: list[Method]
+    scenes: dict[str, Any]  # scene name -> model
+    reference: Callable[[Any, float, tuple[int, int]], np.ndarray]  # (scene, knob value, size)
+    size: tuple[int, int] = (512, 512)
+    quick_size: tuple[int, int] = (256, 256)
+    quick_scenes: Sequence[str] | None = None
+    notes: list[str] = field(default_factory=list)
+
+
+@dataclass
+class Row:
+    technique: str
+    method: str
+    knob_name: str
+    knob: float  # the quality setting's value
+    scene: str
+    width: int
+    height: int
+    ms_median: float      # wall time of one frame, ctx.finish() included
+    gpu_ms_median: float  # GL_TIME_ELAPSED of the same frames
+    runs: int
+    rmse: float
+    max_abs_error: float
+
+    def as_csv(self) -> dict[str, str]:
+        return {k: (f"{v:.6g}" if isinstance(v, float) else str(v)) for k, v in self.__dict__.items()}
+
+
+def errors(output: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
+    """RMSE and max absolute error; a shape mismatch is itself a failure, never silently broadcast."""
+    if output.shape != reference.shape:
+        raise ValueError(f"output shape {output.shape} differs from the reference's {reference.shape}")
+    diff = np.abs(output.astype(np.float64) - reference.astype(np.float64))
+    if diff.size == 0:
+        return 0.0, 0.0
+    return float(np.sqrt(np.mean(diff * diff))), float(diff.max())
+
+
+def time_frames(ctx: moderngl.Context, draw: Callable[[], None], runs: int) -> tuple[float, float]:
+    """Median wall and GPU milliseconds of `runs` frames after one warm-up frame."""
+    draw()
+    ctx.finish()
+    wall, gpu = [], []
+    query = ctx.query(time=True)
+    for _ in range(runs):
+        start = time.perf_counter()
+        with query:
+            draw()
+        ctx.finish()
+        wall.append((time.perf_counter() - start) * 1e3)
+        gpu.append(query.elapsed / 1e6)
+    return statistics.median(wall), statistics.median(gpu)
+
+
+def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int | None = None,
+        progress: Callable[[str], None] = lambda _: None) -> list[Row]:
+    size = tech.quick_size if quick else tech.size
+    runs = runs or (3 if quick else 7)
+    scene_names = list(tech.quick_scenes if quick and tech.quick_scenes else tech.scenes)
+    references: dict[tuple[str, float], np.ndarray] = {}
+    rows: list[Row] = []
+    target = OffscreenTarget(ctx, size)
+    try:
+        for method in tech.methods:
+            state = method.setup(ctx)
+            values = method.quick_values if quick and method.quick_values is not None else method.values
+            for scene_name in scene_names:
+                scene = tech.scenes[scene_name]
+                for value in values:
+                    ms, gpu_ms = time_frames(ctx, lambda: method.render(state, target, value, scene), runs)
+                    key = (scene_name, value)
+                    if key not in references:
+                        references[key] = tech.reference(scene, value, size)
+                    rmse, max_err = errors(method.output(state, target, value, scene), references[key])
+                    rows.append(Row(tech.name, method.name, method.knob, float(value), scene_name, size[0], size[1],
+                                    ms, gpu_ms, runs, rmse, max_err))
+                    progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: "
+                             f"{ms:8.2f} ms  rmse {rmse:.2e}  max {max_err:.2e}")
+    finally:
+        target.release()
+    return rows

@@ -1,0 +1,110 @@
+"""Bench results as CSV and as a chart: error against time, one curve per method (pyqtgraph)."""
+from __future__ import annotations
+
+import csv
+import io
+import os
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+from app.bench.harness import CSV_COLUMNS, Row
+from app.io.atomic import write_text
+
+ERROR_FLOOR = 1e-9  # zero error still needs a place on a log axis
+PALETTE = ("#4cc9f0", "#f72585", "#ffd166", "#06d6a0", "#b388ff", "#ff9f1c", "#8ecae6", "#ef476f")
+
+
+def write_csv(path: str | os.PathLike, rows: list[Row]) -> None:
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=CSV_COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    for row in rows:
+        writer.writerow(row.as_csv())
+    write_text(path, out.getvalue())
+
+
+def read_csv(path: str | os.PathLike) -> list[dict]:
+    """Rows with numbers parsed; refuses a file that lacks the contract's columns."""
+    with open(path, newline="", encoding="utf-8") as f:
+        reader = csv.DictReader(f)
+        missing = set(CSV_COLUMNS) - set(reader.fieldnames or ())
+        if missing:
+            raise ValueError(f"{path} is not a bench CSV (missing {', '.join(sorted(missing))})")
+        rows = []
+        for r in reader:
+            for key in ("knob", "ms_median", "gpu_ms_median", "rmse", "max_abs_error"):
+                r[key] = float(r[key])
+            rows.append(r)
+    return rows
+
+
+def curves(rows: list[dict], scene: str | None = None) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """method -> (ms, max error, knob) for one scene (the first one if None), sorted by knob."""
+    scene = scene or (rows[0]["scene"] if rows else None)
+    grouped: dict[str, list[tuple[float, float, float]]] = defaultdict(list)
+    for r in rows:
+        if r["scene"] == scene:
+            grouped[r["method"]].append((r["knob"], r["ms_median"], max(r["max_abs_error"], ERROR_FLOOR)))
+    result = {}
+    for method, points in grouped.items():
+        knob, ms, err = np.array(sorted(points)).T
+        result[method] = (ms, err, knob)
+    return result
+
+
+def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> None:
+    """Fill two pyqtgraph PlotItems: max error against ms (log-log), and ms against the knob per scene."""
+    import pyqtgraph as pg
+
+    for p in (error_plot, time_plot):
+        p.clear()
+        p.showGrid(x=True, y=True, alpha=0.3)
+        p.addLegend(offset=(10, 10), brush=(20, 22, 28, 200))
+    scene = scene or (rows[0]["scene"] if rows else None)
+    for axis in ("left", "bottom"):  # SI prefixes on log axes print as "(x1e-09)": plain numbers read better
+        error_plot.getAxis(axis).enableAutoSIPrefix(False)
+        time_plot.getAxis(axis).enableAutoSIPrefix(False)
+    error_plot.setLogMode(x=True, y=True)
+    error_plot.setLabel("bottom", "frame time (ms)")
+    error_plot.setLabel("left", "max abs error (0..1)")
+    error_plot.setTitle(f"Speed vs accuracy — {scene}")
+    methods = sorted({r["method"] for r in rows})
+    colours = {m: PALETTE[i % len(PALETTE)] for i, m in enumerate(methods)}
+    for method, (ms, err, _knob) in curves(rows, scene).items():
+        error_plot.plot(ms, err, pen=pg.mkPen(colours[method], width=2), symbol="o", symbolSize=6,
+                        symbolBrush=colours[method], name=method)
+    time_plot.setLogMode(x=False, y=True)
+    time_plot.setLabel("bottom", rows[0]["knob_name"] if rows else "knob")
+    time_plot.setLabel("left", "frame time (ms)")
+    time_plot.setTitle("Time against quality, per scene")
+    symbols = "ostd+x"
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    for method in methods:
+        for si, sc in enumerate(scenes):
+            pts = sorted((r["knob"], r["ms_median"]) for r in rows if r["method"] == method and r["scene"] == sc)
+            if pts:
+                knob, ms = np.array(pts).T
+                time_plot.plot(knob, ms, pen=pg.mkPen(colours[method], width=1.5), symbol=symbols[si % len(symbols)],
+                               symbolSize=6, symbolBrush=colours[method], name=f"{method} / {sc}")
+
+
+def save_chart(path: str | os.PathLike, rows: list[dict], size: tuple[int, int] = (1400, 600)) -> None:
+    """Render the chart off screen and write it as a PNG (needs a QApplication; see cli)."""
+    import pyqtgraph as pg
+    from pyqtgraph.exporters import ImageExporter
+
+    pg.setConfigOptions(antialias=True, background="#14161c", foreground="#d0d4dc")
+    from PySide6.QtCore import QRectF
+
+    widget = pg.GraphicsLayoutWidget()
+    widget.resize(*size)
+    error_plot, time_plot = widget.addPlot(row=0, col=0), widget.addPlot(row=0, col=1)
+    plot(error_plot, time_plot, rows)
+    widget.ci.setGeometry(QRectF(0, 0, *size))  # never shown on screen, so lay it out by hand
+    exporter = ImageExporter(widget.ci)
+    exporter.parameters()["width"] = size[0]
+    tmp = Path(path).with_suffix(".tmp.png")
+    exporter.export(str(tmp))
+    os.replace(tmp, path)

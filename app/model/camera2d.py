@@ -1,0 +1,36 @@
+"""A 2D orthographic camera: a centre and the world height the view shows."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class Camera2D:
+    cx: float = 0.0
+    cy: float = 0.0
+    height: float = 2.6  # world units from bottom to top of the view
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.cx) and math.isfinite(self.cy)):
+            raise ValueError("camera centre must be finite")
+        if not (math.isfinite(self.height) and self.height > 0):
+            raise ValueError(f"camera height must be > 0, got {self.height}")
+
+    def scale_offset(self, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+        """clip = world * scale + offset; y up in world and in clip space."""
+        sy = 2.0 / self.height
+        sx = sy * height / max(width, 1)
+        scale = np.array([sx, sy], dtype="f4")
+        offset = np.array([-self.cx * sx, -self.cy * sy], dtype="f4")
+        return scale, offset
+
+    def to_world(self, px: float, py: float, width: int, height: int) -> tuple[float, float]:
+        """Pixel (origin top-left, y down) to world coordinates."""
+        units = self.height / max(height, 1)
+        return self.cx + (px - width / 2) * units, self.cy - (py - height / 2) * units
+
+    def world_per_pixel(self, height: int) -> float:
+        return self.height / max(height, 1)

@@ -1,0 +1,119 @@
+"""Koch snowflake scene (seed 003, G80test): flake centres plus one global, possibly fractional, level."""
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+MAX_LEVEL = 8.0  # 3 * 4**8 segments per flake: already more than a screen can show
+
+
+class SceneError(ValueError):
+    """A value the snowflake scene refuses; the message is meant for the user."""
+
+
+@dataclass(frozen=True)
+class Flake:
+    x: float
+    y: float
+    radius: float  # circumradius of the level-0 triangle
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (self.x, self.y, self.radius)):
+            raise SceneError(f"flake values must be finite, got ({self.x}, {self.y}, {self.radius})")
+        if self.radius <= 0:
+            raise SceneError(f"flake radius must be > 0, got {self.radius}")
+
+
+def split_level(level: float) -> tuple[int, float]:
+    """(m, t): subdivide m times, the last subdivision's peak scaled by t in (0, 1].
+
+    Level 2.25 = level 3 with the newest bumps at a quarter of their height, so it lies
+    between levels 2 (t -> 0) and 3 (t = 1) and matches both exactly at integers.
+    """
+    m = math.ceil(level)
+    if m == 0:
+        return 0, 1.0
+    return m, level - (m - 1)
+
+
+class SnowflakeScene:
+    """Flakes and the level; `version` counts changes so hosts redraw only when needed."""
+
+    def __init__(self) -> None:
+        self.flakes: list[Flake] = []
+        self._level = 2.0
+        self.version = 0
+
+    @property
+    def level(self) -> float:
+        return self._level
+
+    @level.setter
+    def level(self, value: float) -> None:
+        value = float(value)
+        if not (0.0 <= value <= MAX_LEVEL):
+            raise SceneError(f"level must be within 0..{MAX_LEVEL:g}, got {value:g}")
+        self._level = value
+        self.version += 1
+
+    def add(self, x: float, y: float, radius: float) -> int:
+        self.flakes.append(Flake(float(x), float(y), float(radius)))
+        self.version += 1
+        return len(self.flakes) - 1
+
+    def move(self, index: int, x: float, y: float) -> None:
+        old = self.flakes[self._check(index)]
+        self.flakes[index] = Flake(float(x), float(y), old.radius)
+        self.version += 1
+
+    def remove(self, index: int) -> None:
+        del self.flakes[self._check(index)]
+        self.version += 1
+
+    def clear(self) -> None:
+        self.flakes.clear()
+        self.version += 1
+
+    def replace(self, flakes: list[Flake], level: float) -> None:
+        """Swap in a whole scene (a loaded file) only after every value passed validation."""
+        self.level = level
+        self.flakes = list(flakes)
+
+    def pick(self, x: float, y: float, slack: float) -> int | None:
+        """The nearest flake whose inner half, or a `slack` radius round its centre, holds (x, y)."""
+        best = None
+        for i, f in enumerate(self.flakes):
+            d = math.hypot(f.x - x, f.y - y)
+            if d <= max(slack, 0.5 * f.radius) and (best is None or d < best[0]):
+                best = (d, i)
+        return None if best is None else best[1]
+
+    def instances(self) -> np.ndarray:
+        """Per-flake GPU attributes: x, y, radius as float32 rows."""
+        return np.array([(f.x, f.y, f.radius) for f in self.flakes], dtype="f4").reshape(-1, 3)
+
+    def digest(self) -> str:
+        h = hashlib.sha256(f"level={self._level!r}".encode())
+        for f in self.flakes:
+            h.update(f"{f.x!r},{f.y!r},{f.radius!r};".encode())
+        return h.hexdigest()[:16]
+
+    def _check(self, index: int) -> int:
+        if not 0 <= index < len(self.flakes):
+            raise SceneError(f"no flake {index} (there are {len(self.flakes)})")
+        return index
+
+
+def default_scene() -> SnowflakeScene:
+    """The embedded scene the editor opens on: one large flake ringed by six small ones."""
+    scene = SnowflakeScene()
+    scene.add(0.0, 0.0, 0.55)
+    for k in range(6):
+        a = math.pi / 6 + k * math.pi / 3
+        scene.add(0.95 * math.cos(a), 0.95 * math.sin(a), 0.18)
+    scene.level = 4.0
+    scene.version = 0
+    return scene

@@ -1,0 +1,114 @@
+"""The main window: the viewport in the middle, docks around it, a workspace switcher, frame stats."""
+from __future__ import annotations
+
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QAction, QActionGroup, QKeySequence
+from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QStackedWidget
+
+from app.editor import Editor
+from app.model.workspace import WORKSPACES
+from app.views.bench_dock import BenchDock
+from app.views.console_widget import ConsoleWidget
+from app.views.snowflake_panel import SnowflakePanel
+from app.views.snowflake_tool import SnowflakeTool
+from app.views.viewport import Viewport
+
+
+class MainWindow(QMainWindow):
+    def __init__(self, editor: Editor | None = None) -> None:
+        super().__init__()
+        self.editor = editor or Editor()
+        self.setWindowTitle("Shadelab")
+        self.resize(1400, 860)
+        self._drawn_version = None
+
+        self.viewport = Viewport(self.editor)
+        self.setCentralWidget(self.viewport)
+        self.tools = {"snowflake": SnowflakeTool(self.viewport, self.run)}
+
+        self.panels = QStackedWidget()
+        self.snowflake_panel = SnowflakePanel(self.editor, self.run)
+        self.placeholder = QLabel(alignment=Qt.AlignmentFlag.AlignCenter, wordWrap=True)
+        self.panels.addWidget(self.snowflake_panel)
+        self.panels.addWidget(self.placeholder)
+        self.console_widget = ConsoleWidget(self.editor.console)
+        self.bench = BenchDock()
+        self.docks = {
+            "editor": self._dock("Editor", self.panels, Qt.DockWidgetArea.LeftDockWidgetArea),
+            "console": self._dock("Console", self.console_widget, Qt.DockWidgetArea.BottomDockWidgetArea),
+            "bench": self._dock("Speed vs accuracy", self.bench, Qt.DockWidgetArea.RightDockWidgetArea),
+        }
+        self.resizeDocks([self.docks["editor"], self.docks["bench"]], [260, 420], Qt.Orientation.Horizontal)
+        self.resizeDocks([self.docks["console"]], [170], Qt.Orientation.Vertical)
+
+        self.workspace_actions = self._workspace_bar()
+        toggle = QAction("Console", self, shortcut=QKeySequence("`"), triggered=self.toggle_console)
+        self.addAction(toggle)
+
+        self.frame_label = QLabel()
+        self.frame_label.setMinimumWidth(320)
+        self.gl_label = QLabel()
+        self.statusBar().addPermanentWidget(self.frame_label)
+        self.statusBar().addWidget(self.gl_label)
+        self.viewport.gl_ready.connect(self._gl_ready)
+        self.viewport.frame_rendered.connect(self._frame_stats)
+        self.viewport.gl_error.connect(self.editor.console.error)
+        self.editor.console.executed_listeners.append(lambda _line: self.refresh())
+        self.refresh()
+
+    def _dock(self, title: str, widget, area) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(title)
+        dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        return dock
+
+    def _workspace_bar(self) -> dict[str, QAction]:
+        bar = self.addToolBar("Workspaces")
+        bar.setObjectName("Workspaces")
+        group = QActionGroup(self)
+        actions = {}
+        for info in WORKSPACES:
+            action = QAction(info.title, self, checkable=True, enabled=info.built)
+            action.setToolTip(info.title if info.built else f"{info.title}: not built yet")
+            action.triggered.connect(lambda _=False, n=info.name: self.run(f"workspace {n}"))
+            group.addAction(action)
+            bar.addAction(action)
+            actions[info.name] = action
+        return actions
+
+    def run(self, line: str) -> bool:
+        """Every edit from a widget, the mouse or a key passes through the console."""
+        return self.editor.execute(line)
+
+    def toggle_console(self) -> None:
+        dock = self.docks["console"]
+        dock.setVisible(not dock.isVisible())
+        if dock.isVisible():
+            self.console_widget.input.setFocus()
+
+    def refresh(self) -> None:
+        """Bring widgets in line with the model and redraw only if something drawn changed."""
+        version = self.editor.version()
+        if version == self._drawn_version:
+            return
+        workspace = self.editor.workspace
+        if self._drawn_version is None or workspace != self._drawn_version[0]:
+            self._show_workspace(workspace)
+        self._drawn_version = version
+        self.snowflake_panel.sync()
+        self.viewport.update()
+
+    def _show_workspace(self, name: str) -> None:
+        self.workspace_actions[name].setChecked(True)
+        self.viewport.tool = self.tools.get(name)
+        self.panels.setCurrentWidget(self.snowflake_panel if name == "snowflake" else self.placeholder)
+        self.bench.show_technique(name)
+
+    def _gl_ready(self, renderer: str) -> None:
+        self.gl_label.setText(renderer)
+        self.editor.console.print(f"Shadelab on {renderer}. Type help for commands; ` toggles the console.")
+
+    def _frame_stats(self, ms: float) -> None:
+        self.frame_label.setText(f"{ms:.1f} ms/frame · {self.viewport.average_fps():.0f} frames/s "
+                                 f"(mean of last {len(self.viewport.frame_ms)}) ")

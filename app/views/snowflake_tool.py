@@ -1,0 +1,84 @@
+"""Mouse and keys of the snowflake workspace, each turned into a console command.
+
+Left click on empty space adds a flake, left drag moves one, right click removes one,
+middle or right drag pans, the wheel zooms about the cursor, w/s change the level.
+"""
+from __future__ import annotations
+
+from PySide6.QtCore import Qt
+
+LEVEL_STEP = 0.25
+PICK_PIXELS = 12
+ZOOM_STEP = 1.15
+
+
+class SnowflakeTool:
+    def __init__(self, viewport, run) -> None:
+        self.viewport = viewport
+        self.run = run  # executes one console command line
+        self._drag: int | None = None  # flake being moved
+        self._pan_from = None  # (pixel, camera centre) of a pan in progress
+        self._moved = False
+
+    @property
+    def editor(self):
+        return self.viewport.editor
+
+    def _world(self, event) -> tuple[float, float]:
+        p = event.position()
+        cam = self.editor.snowflake_camera
+        return cam.to_world(p.x(), p.y(), self.viewport.width(), self.viewport.height())
+
+    def _pick(self, x: float, y: float) -> int | None:
+        slack = PICK_PIXELS * self.editor.snowflake_camera.world_per_pixel(self.viewport.height())
+        return self.editor.snowflake.pick(x, y, slack)
+
+    def press(self, event) -> None:
+        x, y = self._world(event)
+        self._moved = False
+        if event.button() == Qt.MouseButton.LeftButton:
+            self._drag = self._pick(x, y)
+            if self._drag is None:
+                self.run(f"snow.add {x:.4f} {y:.4f}")
+        elif event.button() in (Qt.MouseButton.MiddleButton, Qt.MouseButton.RightButton):
+            cam = self.editor.snowflake_camera
+            self._pan_from = (event.position(), (cam.cx, cam.cy))
+
+    def move(self, event) -> None:
+        if self._drag is not None:
+            x, y = self._world(event)
+            self._moved = True
+            self.run(f"snow.move {self._drag} {x:.4f} {y:.4f}")
+        elif self._pan_from is not None:
+            start, (cx, cy) = self._pan_from
+            d = event.position() - start
+            if abs(d.x()) + abs(d.y()) < 3 and not self._moved:
+                return
+            self._moved = True
+            cam = self.editor.snowflake_camera
+            units = cam.world_per_pixel(self.viewport.height())
+            self.run(f"snow.view {cx - d.x() * units:.5f} {cy + d.y() * units:.5f} {cam.height:.5f}")
+
+    def release(self, event) -> None:
+        if event.button() == Qt.MouseButton.RightButton and not self._moved:
+            i = self._pick(*self._world(event))
+            if i is not None:
+                self.run(f"snow.remove {i}")
+        self._drag = None
+        self._pan_from = None
+
+    def wheel(self, event) -> None:
+        """Zoom keeping the world point under the cursor in place."""
+        cam = self.editor.snowflake_camera
+        factor = ZOOM_STEP ** (-event.angleDelta().y() / 120)
+        x, y = self._world(event)
+        h = min(1e4, max(1e-3, cam.height * factor))
+        k = h / cam.height
+        self.run(f"snow.view {x + (cam.cx - x) * k:.5f} {y + (cam.cy - y) * k:.5f} {h:.5f}")
+
+    def key(self, event) -> bool:
+        step = {Qt.Key.Key_W: LEVEL_STEP, Qt.Key.Key_S: -LEVEL_STEP}.get(event.key())
+        if step is None:
+            return False
+        self.run(f"snow.step {step}")
+        return True

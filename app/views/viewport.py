@@ -1,0 +1,90 @@
+"""The central QOpenGLWidget: draws the current workspace through moderngl, on demand only."""
+from __future__ import annotations
+
+import time
+from collections import deque
+
+import moderngl
+from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtOpenGLWidgets import QOpenGLWidget
+
+from app.gl.workspace_renderer import WorkspaceRenderer
+
+SHADER_POLL_MS = 500
+
+
+class Viewport(QOpenGLWidget):
+    """Repaints when the editor's version changes (see MainWindow), never in a spin loop."""
+
+    frame_rendered = Signal(float)  # milliseconds, GPU work finished
+    gl_error = Signal(str)
+    gl_ready = Signal(str)  # the renderer's name, once the context exists
+
+    def __init__(self, editor, parent=None) -> None:
+        super().__init__(parent)
+        self.editor = editor
+        self.ctx: moderngl.Context | None = None
+        self.renderer: WorkspaceRenderer | None = None
+        self.frames = 0
+        self.frame_ms: deque[float] = deque(maxlen=30)
+        self.tool = None  # the workspace's mouse/key handler, set by MainWindow
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setMouseTracking(True)
+        self.setMinimumSize(320, 240)
+        self._shader_timer = QTimer(self, interval=SHADER_POLL_MS, timeout=self.poll_shaders)
+
+    def initializeGL(self) -> None:
+        self.ctx = moderngl.create_context()
+        self.renderer = WorkspaceRenderer(self.ctx, on_shader_error=lambda e: self.gl_error.emit(str(e)))
+        self._shader_timer.start()
+        self.gl_ready.emit(f"{self.ctx.info['GL_RENDERER']}, OpenGL {self.ctx.version_code / 100:.1f}")
+
+    def paintGL(self) -> None:
+        start = time.perf_counter()
+        fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
+        try:
+            self.renderer.render(self.editor, fbo)
+        except Exception as exc:  # e.g. a shader that never compiled: say so, keep the editor alive
+            fbo.clear(0.3, 0.05, 0.05, 1.0)
+            self.gl_error.emit(str(exc))
+        self.ctx.finish()
+        ms = (time.perf_counter() - start) * 1e3
+        self.frames += 1
+        self.frame_ms.append(ms)
+        self.frame_rendered.emit(ms)
+
+    def average_fps(self) -> float:
+        """Frames per second the recent frames would sustain (Tex3Dtrace's statistic)."""
+        return 1e3 * len(self.frame_ms) / sum(self.frame_ms) if self.frame_ms else 0.0
+
+    def poll_shaders(self) -> None:
+        """Hot reload: recompile shader files changed on disk; a broken edit keeps the old program."""
+        if self.renderer is None or not self.isVisible():
+            return
+        self.makeCurrent()
+        try:
+            reloaded = self.renderer.shaders.reload_changed()
+        finally:
+            self.doneCurrent()
+        if reloaded:
+            self.update()
+
+    def mousePressEvent(self, event) -> None:
+        if self.tool:
+            self.tool.press(event)
+
+    def mouseMoveEvent(self, event) -> None:
+        if self.tool:
+            self.tool.move(event)
+
+    def mouseReleaseEvent(self, event) -> None:
+        if self.tool:
+            self.tool.release(event)
+
+    def wheelEvent(self, event) -> None:
+        if self.tool:
+            self.tool.wheel(event)
+
+    def keyPressEvent(self, event) -> None:
+        if not (self.tool and self.tool.key(event)):
+            super().keyPressEvent(event)

@@ -1,0 +1,42 @@
+import os
+import tempfile
+
+import pytest
+
+from app.gl.headless import create_context, release_context
+
+# Keep tests away from the user's cache (shader .prs files, bench results).
+os.environ["SHADELAB_CACHE_DIR"] = tempfile.mkdtemp(prefix="shadelab-test-cache-")
+
+
+@pytest.fixture(scope="module")
+def gl():
+    """A headless EGL context (Mesa llvmpipe here), current, with a small framebuffer bound."""
+    ctx = create_context()
+    fbo = ctx.simple_framebuffer((8, 8))
+    fbo.use()  # an EGL context has no default framebuffer
+    yield ctx
+    fbo.release()
+    release_context(ctx)  # Qt tests later in this process need no EGL context current
+
+
+def pytest_configure(config):
+    # The GL surface format must be set before pytest-qt creates the QApplication.
+    from app.views.application import set_surface_format
+
+    set_surface_format()
+
+
+@pytest.fixture
+def window(qtbot):
+    """The main window on its default scene, shown on the test's X server (pytest-xvfb)."""
+    from app.views.main_window import MainWindow
+
+    w = MainWindow()
+    qtbot.addWidget(w)
+    w.show()
+    qtbot.waitExposed(w)
+    w.windowHandle().requestActivate()  # no window manager under Xvfb activates it for us
+    qtbot.waitUntil(lambda: w.isActiveWindow(), timeout=5000)
+    qtbot.waitUntil(lambda: w.viewport.frames > 0, timeout=10000)
+    return w

@@ -1,0 +1,59 @@
+"""The bench harness on a tiny technique whose errors are known exactly."""
+import numpy as np
+import pytest
+
+from app.bench import harness, report
+from app.bench.harness import Method, Technique
+
+
+def flat_grey(ctx):
+    return None
+
+
+def render_grey(_state, target, value, _scene):
+    target.fbo.use()
+    target.fbo.clear(value, value, value, 1.0)
+
+
+def output_grey(_state, target, _value, _scene):
+    return target.read()[..., :3] / 255.0
+
+
+def grey_reference(_scene, _value, size):
+    return np.full((size[1], size[0], 3), 0.5)
+
+
+def tiny():
+    return Technique("grey", [Method("clear", "level", (0.5, 0.25), flat_grey, render_grey, output_grey)],
+                     {"empty": None}, grey_reference, size=(32, 16), quick_size=(16, 8))
+
+
+def test_errors_against_reference(gl):
+    rows = harness.run(gl, tiny(), quick=True, runs=2)
+    assert [(r.knob, r.width, r.height, r.runs) for r in rows] == [(0.5, 16, 8, 2), (0.25, 16, 8, 2)]
+    exact, off = rows
+    assert exact.max_abs_error <= 1 / 255  # 0.5 stores as 127 or 128
+    assert off.max_abs_error == pytest.approx(abs(64 / 255 - 0.5), abs=1 / 255)
+    assert off.rmse == pytest.approx(off.max_abs_error)  # a uniform error
+    assert all(r.ms_median > 0 and r.gpu_ms_median >= 0 for r in rows)
+
+
+def test_shape_mismatch_is_an_error():
+    with pytest.raises(ValueError, match="differs"):
+        harness.errors(np.zeros((2, 2)), np.zeros((2, 3)))
+
+
+def test_csv_round_trip_and_curves(gl, tmp_path):
+    rows = harness.run(gl, tiny(), quick=True, runs=1)
+    report.write_csv(tmp_path / "grey.csv", rows)
+    back = report.read_csv(tmp_path / "grey.csv")
+    assert [r["knob"] for r in back] == [0.5, 0.25]
+    ms, err, knob = report.curves(back)["clear"]
+    assert list(knob) == [0.25, 0.5] and err[1] >= report.ERROR_FLOOR
+
+
+def test_read_csv_refuses_other_files(tmp_path):
+    path = tmp_path / "x.csv"
+    path.write_text("a,b\n1,2\n")
+    with pytest.raises(ValueError, match="not a bench CSV"):
+        report.read_csv(path)

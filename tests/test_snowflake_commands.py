@@ -1,0 +1,101 @@
+"""Snowflake verbs through the console, and scene files: refused input changes nothing."""
+import json
+
+import pytest
+
+from app.editor import Editor
+from app.io import snowflake_scene
+
+
+@pytest.fixture
+def editor():
+    return Editor()
+
+
+def last_error(editor):
+    return [line.text for line in editor.console.log if line.level == "error"][-1]
+
+
+def test_default_scene_is_embedded(editor):
+    assert editor.workspace == "snowflake"
+    assert len(editor.snowflake.flakes) == 7 and editor.snowflake.level == 4
+
+
+def test_edit_commands(editor):
+    e = editor
+    assert e.execute("snow.clear; snow.add 0.5 -0.25 0.2; snow.add 1 1")
+    assert [(f.x, f.y, f.radius) for f in e.snowflake.flakes] == [(0.5, -0.25, 0.2), (1, 1, 0.3)]
+    assert e.execute("snow.move 1 -1 2; snow.remove 0")
+    assert [(f.x, f.y) for f in e.snowflake.flakes] == [(-1, 2)]
+    assert e.execute("snow.level 2.5; snow.step 0.25")
+    assert e.snowflake.level == 2.75
+    assert e.execute("snow.step 100")
+    assert e.snowflake.level == 8
+
+
+@pytest.mark.parametrize("line, needle", [
+    ("snow.level 9", "within 0..8"),
+    ("snow.level -1", "within 0..8"),
+    ("snow.add 0 0 -1", "radius must be > 0"),
+    ("snow.move 99 0 0", "no flake 99"),
+    ("snow.remove -1", "no flake -1"),
+    ("snow.view 0 0 0", "height must be > 0"),
+    ("workspace nowhere", "no workspace"),
+    ("workspace volume", "not built yet"),
+])
+def test_bad_arguments_change_nothing(editor, line, needle):
+    before = (editor.digest(), editor.version(), editor.snowflake_camera.height)
+    assert not editor.execute(line)
+    assert needle in last_error(editor)
+    assert (editor.digest(), editor.version(), editor.snowflake_camera.height) == before
+
+
+def test_digest_tracks_state(editor):
+    d0 = editor.digest()
+    editor.execute("snow.add 0 0")
+    assert editor.digest() != d0
+    editor.execute("snow.remove 7")
+    assert editor.digest() == d0
+    editor.execute("digest")
+    assert editor.console.log[-1].text == f"snowflake {d0['snowflake']}"
+
+
+def test_scene_round_trip(editor, tmp_path):
+    path = tmp_path / "scene.json"
+    editor.execute("snow.level 3.5")
+    assert editor.execute(f'scene.save "{path}"')
+    other = Editor()
+    other.execute("snow.clear")
+    assert other.execute(f'scene.load "{path}"')
+    assert other.digest() == editor.digest()
+    assert not list(tmp_path.glob(".*tmp"))  # the atomic write left no temp file
+
+
+@pytest.mark.parametrize("content, needle", [
+    ("{not json", "not valid JSON"),
+    ('{"format": "other", "version": 1, "flakes": []}', "not a shadelab.snowflake file"),
+    ('{"format": "shadelab.snowflake", "version": 9, "flakes": []}', "unsupported version 9"),
+    ('{"format": "shadelab.snowflake", "version": 1, "level": 12, "flakes": []}', "level must be"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": {}}', "'flakes' must be a list"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0}, {"x": 1}]}', "flake 1 is invalid"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0, "radius": -2}]}', "radius must be > 0"),
+])
+def test_malformed_scene_refused_before_the_model_is_touched(editor, tmp_path, content, needle):
+    path = tmp_path / "bad.json"
+    path.write_text(content)
+    before = editor.digest()
+    assert not editor.execute(f'scene.load "{path}"')
+    assert needle in last_error(editor)
+    assert editor.digest() == before
+
+
+def test_missing_scene_file(editor, tmp_path):
+    assert not editor.execute(f'scene.load "{tmp_path / "none.json"}"')
+    assert "cannot read" in last_error(editor)
+
+
+def test_saved_file_is_documented_format(editor, tmp_path):
+    path = tmp_path / "s.json"
+    snowflake_scene.save(path, editor.snowflake)
+    data = json.loads(path.read_text())
+    assert data["format"] == "shadelab.snowflake" and data["version"] == 1 and len(data["flakes"]) == 7
