@@ -26,7 +26,8 @@ class Editor:
 
     def version(self) -> tuple:
         """Changes whenever anything a host draws changed: redraw when it differs."""
-        return (self.workspace, self.snowflake.version)
+        cam = self.snowflake_camera
+        return (self.workspace, self.snowflake.version, cam.cx, cam.cy, cam.height)
 
     def digest(self) -> dict[str, str]:
         return {"snowflake": self.snowflake.digest()}

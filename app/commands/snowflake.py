@@ -52,4 +52,3 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
         if height <= 0:
             raise CommandError(f"height must be > 0, got {height:g}")
         camera.cx, camera.cy, camera.height = cx, cy, height
-        scene.version += 1  # the view is part of what hosts redraw for
