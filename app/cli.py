@@ -6,10 +6,16 @@ import os
 import sys
 import time
 from pathlib import Path
+from shlex import quote as shlex_quote
 
 from app.model.workspace import NAMES
 
-HEADLESS = ("render", "bench")
+HEADLESS = ("render", "bench", "exec")
+EXEC_USAGE = """usage: shadelab exec [FILE | -c COMMAND]...
+
+Run .cfg, .lua and .demo files and single console commands in the order given, without a window,
+printing the console log. A demo plays to its end at its recorded times before the next item runs.
+The exit status is 1 if any command failed; later items still run."""
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -26,7 +32,8 @@ def parser() -> argparse.ArgumentParser:
     from app.bench import TECHNIQUES
 
     p = argparse.ArgumentParser(prog="shadelab", description="Shadelab: a workbench for real-time lighting and volume techniques.")
-    sub = p.add_subparsers(dest="verb", metavar="{render,bench}")
+    sub = p.add_subparsers(dest="verb", metavar="{render,bench,exec}")
+    sub.add_parser("exec", help="run .cfg/.lua/.demo files and -c commands headless (shadelab exec -h)")
     r = sub.add_parser("render", help="draw one frame of a workspace headless (EGL) into a PNG")
     r.add_argument("workspace", choices=NAMES)
     r.add_argument("--scene", metavar="FILE", help="scene file to load first (scene.load)")
@@ -51,7 +58,7 @@ def render(args) -> int:
     editor.console.log_listeners.append(lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout))
     commands = [f"workspace {args.workspace}"]
     if args.scene:
-        commands.append(f'scene.load "{args.scene}"')
+        commands.append(f"scene.load {shlex_quote(args.scene)}")
     commands += args.cmd
     failed = [c for c in commands if not editor.execute(c)]
     if failed:
@@ -86,6 +93,74 @@ def bench(args) -> int:
     return 0
 
 
+def exec_items(argv: list[str]) -> list[tuple[str, str]]:
+    """['a.cfg', '-c', 'echo hi'] -> [('file', 'a.cfg'), ('cmd', 'echo hi')], order kept."""
+    items, args = [], list(argv)
+    while args:
+        arg = args.pop(0)
+        if arg in ("-h", "--help"):
+            raise SystemExit(print(EXEC_USAGE) or 0)
+        if arg == "-c":
+            if not args:
+                raise SystemExit("shadelab exec: -c needs a command")
+            items.append(("cmd", args.pop(0)))
+        else:
+            items.append(("file", arg))
+    return items
+
+
+def run_exec(argv: list[str]) -> int:
+    from app.console.demo import MonotonicClock
+    from app.editor import Editor
+
+    items = exec_items(argv)
+    clock = MonotonicClock()
+    editor = Editor(clock=clock)
+    errors = []
+    editor.console.log_listeners.append(lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout, flush=True))
+    editor.console.log_listeners.append(lambda line: line.level == "error" and errors.append(line))
+    quit_requested = []
+    editor.console.quit_listeners.append(lambda: quit_requested.append(True))
+    editor.demos.frame = HeadlessFrame(editor)
+    runners = {".cfg": "exec", ".lua": "lua", ".demo": "play"}
+    for kind, value in items:
+        if kind == "cmd":
+            editor.execute(value)
+        elif Path(value).suffix in runners:
+            editor.execute(f"{runners[Path(value).suffix]} {shlex_quote(value)}")
+        else:
+            editor.console.error(f"exec: {value}: not a .cfg, .lua or .demo file")
+        while editor.demos.playing or editor.console.waiting:  # finish demos and waits before the next item
+            due = editor.demos.player.next_due() if editor.demos.playing else None
+            if due is not None:
+                time.sleep(max(0.0, due - clock.now()))
+            editor.demos.update()
+            editor.console.frame()
+        if quit_requested:
+            break
+    editor.demos.stop_all()
+    return 1 if errors else 0
+
+
+class HeadlessFrame:
+    """timedemo's frame in the headless host: draw the workspace off screen (EGL made on first use)."""
+
+    def __init__(self, editor, size=(640, 480)) -> None:
+        self.editor, self.size = editor, size
+        self.target = None
+
+    def __call__(self) -> None:
+        from app.gl.headless import OffscreenTarget, create_context
+        from app.gl.workspace_renderer import WorkspaceRenderer
+
+        if self.target is None:
+            ctx = create_context()
+            self.renderer = WorkspaceRenderer(ctx, on_shader_error=lambda e: self.editor.console.error(str(e)))
+            self.target = OffscreenTarget(ctx, self.size)
+        self.renderer.render(self.editor, self.target.fbo)
+        self.target.ctx.finish()
+
+
 def ensure_qt_app(offscreen: bool = False):
     """A QApplication for QtGui/pyqtgraph work; off screen when there is no display to use."""
     from PySide6.QtWidgets import QApplication
@@ -100,6 +175,8 @@ def ensure_qt_app(offscreen: bool = False):
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["exec"]:
+        return run_exec(argv[1:])
     if argv[:1] and argv[0] in HEADLESS + ("-h", "--help"):
         args = parser().parse_args(argv)
         return {"render": render, "bench": bench}[args.verb](args)

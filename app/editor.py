@@ -1,25 +1,47 @@
 """The editor's state without any window: the console, every workspace's model and camera.
 
-Both hosts drive one of these: the Qt main window and the headless `shadelab render/bench`.
+Both hosts drive one of these: the Qt main window and the headless `shadelab render/exec/bench`.
 """
 from __future__ import annotations
 
+import hashlib
+from typing import Callable
 
 from app.commands import core, snowflake as snowflake_commands
+from app.console import builtins, files
+from app.console.binds import Binds
 from app.console.console import Console
+from app.console.demo import Clock, MonotonicClock
+from app.console.demos import Demos
 from app.model.camera2d import Camera2D
 from app.model.snowflake import default_scene
 
+START_CONFIGS = ("default.cfg", "shadelab.cfg")
 
 
 class Editor:
-    def __init__(self) -> None:
+    """`clock` times demos (a virtual one in tests); `frame` draws one frame for timedemo."""
+
+    def __init__(self, clock: Clock | None = None, frame: Callable[[], None] | None = None,
+                 configs: bool = True) -> None:
         self.console = Console()
+        self.binds = Binds()
         self.workspace = "snowflake"
         self.snowflake = default_scene()
         self.snowflake_camera = Camera2D()
+        self.lua = builtins.register(self.console, self.binds)
+        self.demos = Demos(self.console, clock or MonotonicClock(), self.state_commands, frame)
         core.register(self)
         snowflake_commands.register(self.console, self.snowflake, self.snowflake_camera)
+        if configs:
+            self.run_start_configs()
+
+    def run_start_configs(self) -> None:
+        """default.cfg and shadelab.cfg from the resources, then the user's archived config."""
+        for name in START_CONFIGS:
+            builtins.exec_file(self.console, name)
+        if files.user_config().is_file():
+            builtins.exec_file(self.console, str(files.user_config()))
 
     def execute(self, line: str) -> bool:
         return self.console.execute(line)
@@ -30,4 +52,17 @@ class Editor:
         return (self.workspace, self.snowflake.version, cam.cx, cam.cy, cam.height)
 
     def digest(self) -> dict[str, str]:
-        return {"snowflake": self.snowflake.digest()}
+        cvars = hashlib.sha256("".join(f"{n}={c.text()};" for n, c in sorted(self.console.registry.cvars.items()))
+                               .encode()).hexdigest()[:16]
+        return {"snowflake": self.snowflake.digest(), "cvars": cvars}
+
+    def state_commands(self) -> list[str]:
+        """Commands that rebuild the current state from any other: a demo's opening lines."""
+        scene, cam = self.snowflake, self.snowflake_camera
+        lines = ["snow.clear"]
+        lines += [f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes]
+        lines += [f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]
+        lines += [f"{'seta' if c.archive else 'set'} {n} {c.text()}"
+                  for n, c in sorted(self.console.registry.cvars.items())]
+        lines.append(f"workspace {self.workspace}")
+        return lines

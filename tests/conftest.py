@@ -9,6 +9,14 @@ from app.gl.headless import create_context, release_context
 os.environ["SHADELAB_CACHE_DIR"] = tempfile.mkdtemp(prefix="shadelab-test-cache-")
 
 
+@pytest.fixture(autouse=True)
+def user_config_dir(tmp_path, monkeypatch):
+    """Each test starts with an empty user config folder (history, config.cfg)."""
+    path = tmp_path / "user-config"
+    monkeypatch.setenv("SHADELAB_CONFIG_DIR", str(path))
+    return path
+
+
 @pytest.fixture(scope="module")
 def gl():
     """A headless EGL context (Mesa llvmpipe here), current, with a small framebuffer bound."""
@@ -28,15 +36,24 @@ def pytest_configure(config):
 
 
 @pytest.fixture
-def window(qtbot):
-    """The main window on its default scene, shown on the test's X server (pytest-xvfb)."""
+def make_window(qtbot):
+    """Open a main window on its default scene, shown on the test's X server (pytest-xvfb)."""
     from app.views.main_window import MainWindow
 
-    w = MainWindow()
-    qtbot.addWidget(w)
-    w.show()
-    qtbot.waitExposed(w)
-    w.windowHandle().requestActivate()  # no window manager under Xvfb activates it for us
-    qtbot.waitUntil(lambda: w.isActiveWindow(), timeout=5000)
-    qtbot.waitUntil(lambda: w.viewport.frames > 0, timeout=10000)
-    return w
+    def make():
+        w = MainWindow()
+        qtbot.addWidget(w)
+        w.show()
+        qtbot.waitExposed(w)
+        w.windowHandle().requestActivate()  # no window manager under Xvfb activates it for us
+        qtbot.waitUntil(lambda: w.isActiveWindow(), timeout=5000)
+        qtbot.waitUntil(lambda: w.viewport.frames > 0, timeout=10000)
+        return w
+
+    return make
+
+
+@pytest.fixture
+def window(make_window):
+    return make_window()
+

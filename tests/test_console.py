@@ -106,3 +106,9 @@ def test_executed_listeners_see_only_successful_commands(console):
     console.executed_listeners.append(seen.append)
     console.execute("add 1 2; add x; many 'a b'")
     assert seen == ["add 1 2", "many 'a b'"]
+
+
+def test_comments_outside_quotes_are_dropped():
+    assert split_commands('echo a // the rest') == [["echo", "a"]]
+    assert split_commands('echo "http://x" // c') == [["echo", "http://x"]]
+    assert Console().execute("// only a comment")

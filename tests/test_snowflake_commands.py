@@ -57,7 +57,7 @@ def test_digest_tracks_state(editor):
     editor.execute("snow.remove 7")
     assert editor.digest() == d0
     editor.execute("digest")
-    assert editor.console.log[-1].text == f"snowflake {d0['snowflake']}"
+    assert [line.text for line in editor.console.log[-2:]] == [f"snowflake {d0['snowflake']}", f"cvars {d0['cvars']}"]
 
 
 def test_scene_round_trip(editor, tmp_path):

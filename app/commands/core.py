@@ -39,7 +39,7 @@ def register(editor: "Editor") -> None:
         editor.snowflake.replace(flakes, level)
         console.print(f"loaded {len(flakes)} flakes from {path}")
 
-    @reg.command("scene.save", "path", "Save the current workspace's scene (atomically)")
+    @reg.command("scene.save", "path", "Save the current workspace's scene (atomically)", recorded=False)
     def scene_save(path: str) -> None:
         if editor.workspace != "snowflake":
             raise CommandError(f"the {editor.workspace} workspace has no scene files yet")
@@ -49,21 +49,15 @@ def register(editor: "Editor") -> None:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
         console.print(f"saved {path}")
 
-    @reg.command("digest", "", "Print a digest of every workspace's model state")
+    def no_volume(*_args) -> None:
+        raise CommandError("no volume workspace is loaded (it arrives with the volume editor)")
+
+    reg.command("load", "path", "Open a 3D raster image (volume workspace)")(no_volume)
+    reg.command("save", "path", "Save the 3D raster image (volume workspace)")(no_volume)
+    reg.command("new", "w:int h:int d:int", "Make an empty 3D raster image (volume workspace)")(no_volume)
+
+    @reg.command("digest", "", "Print a digest of every workspace's model state", recorded=False)
     def digest() -> None:
         for name, value in editor.digest().items():
             console.print(f"{name} {value}")
 
-    @reg.command("help", "[name]", "Describe a command or cvar, or list them all")
-    def help_(name: str | None = None) -> None:
-        if name is None:
-            for n in reg.names():
-                console.print(n)
-        elif name in reg.commands:
-            cmd = reg.commands[name]
-            console.print(f"{cmd.usage()}: {cmd.help}")
-        elif name in reg.cvars:
-            cvar = reg.cvars[name]
-            console.print(f"{name} ({cvar.type.__name__}, now {cvar.text()}): {cvar.help}")
-        else:
-            raise CommandError(f"no command or cvar {name!r}")

@@ -6,7 +6,9 @@ import traceback
 from dataclasses import dataclass
 from typing import Callable
 
-from app.console.registry import CommandError, Registry
+from app.console.registry import CommandError, Registry, Reported
+
+MAX_DEPTH = 32  # aliases and exec'd files calling each other: stop a loop, not a deep script
 
 
 @dataclass(frozen=True)
@@ -15,16 +17,29 @@ class LogLine:
     text: str
 
 
+def strip_comment(line: str) -> str:
+    """Drop a `//` comment that starts outside quotes, as Quake configs write them."""
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            quote = None if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif line.startswith("//", i):
+            return line[:i]
+    return line
+
+
 def split_commands(line: str) -> list[list[str]]:
     """'a 1; b "x;y"' -> [['a', '1'], ['b', 'x;y']]: ';' separates commands outside quotes."""
-    lexer = shlex.shlex(line, posix=True, punctuation_chars=";")
+    lexer = shlex.shlex(strip_comment(line), posix=True, punctuation_chars=";")
     lexer.whitespace_split = True
     lexer.commenters = ""
     commands: list[list[str]] = [[]]
     try:
         for token in lexer:
             if token and set(token) == {";"}:
-                commands.append([])
+                commands.extend([] for _ in token)
             else:
                 commands[-1].append(token)
     except ValueError as exc:  # unbalanced quotes
@@ -33,13 +48,22 @@ def split_commands(line: str) -> list[list[str]]:
 
 
 class Console:
-    """Single door for state changes: every edit is a line executed here (DESIGN.md rule 1)."""
+    """Single door for state changes: every edit is a line executed here (DESIGN.md rule 1).
+
+    Listeners: `log_listeners` see every log line; `executed_listeners` every command that succeeded;
+    `record_listeners` only those that change state by themselves (what a demo must replay).
+    """
 
     def __init__(self, registry: Registry | None = None) -> None:
         self.registry = registry or Registry()
         self.log: list[LogLine] = []
         self.log_listeners: list[Callable[[LogLine], None]] = []
         self.executed_listeners: list[Callable[[str], None]] = []
+        self.record_listeners: list[Callable[[str], None]] = []
+        self.quit_listeners: list[Callable[[], None]] = []
+        self.file_runners: dict[str, Callable[[str], bool]] = {}  # ".lua" -> run that file
+        self.waiting: list[tuple[int, list[list[str]]]] = []  # (frames left, commands) after `wait`
+        self._depth = 0
 
     def print(self, text: str, level: str = "info") -> None:
         line = LogLine(level, text)
@@ -50,10 +74,13 @@ class Console:
     def error(self, text: str) -> None:
         self.print(text, "error")
 
+    def clear(self) -> None:
+        self.log.clear()
+
     def execute(self, line: str, echo: bool = True) -> bool:
         """Run every command on the line; False if any failed (the later ones still run)."""
         line = line.strip()
-        if not line or line.startswith("//"):
+        if not strip_comment(line).strip():
             return True
         if echo:
             self.print(f"] {line}", "input")
@@ -62,35 +89,95 @@ class Console:
         except CommandError as exc:
             self.error(str(exc))
             return False
+        return self._run_all(commands)
+
+    def _run_all(self, commands: list[list[str]]) -> bool:
         ok = True
-        for words in commands:
+        for i, words in enumerate(commands):
+            if words[0] == "wait":  # the rest of the line runs `frames` frames later
+                frames = self._wait_frames(words)
+                if frames is None:
+                    return False
+                if commands[i + 1:]:
+                    self.waiting.append((frames, commands[i + 1:]))
+                return ok
             ok = self._run(words) and ok
         return ok
 
+    def frame(self) -> bool:
+        """Advance one frame: run the commands whose `wait` is over. Hosts call this per frame."""
+        due, self.waiting = self.waiting, []
+        ok = True
+        for frames, commands in due:
+            if frames <= 1:
+                ok = self._run_all(commands) and ok
+            else:
+                self.waiting.append((frames - 1, commands))
+        return ok
+
+    def _wait_frames(self, words: list[str]) -> int | None:
+        try:
+            frames = int(words[1]) if len(words) > 1 else 1
+            if not 1 <= frames <= 100_000 or len(words) > 2:
+                raise ValueError
+        except ValueError:
+            self.error("wait: usage: wait [frames], frames within 1..100000")
+            return None
+        return frames
+
     def _run(self, words: list[str]) -> bool:
         name, args = words[0], words[1:]
-        reg = self.registry
+        if self._depth >= MAX_DEPTH:
+            self.error(f"{name}: nested more than {MAX_DEPTH} deep (an alias or exec that calls itself?)")
+            return False
+        self._depth += 1
         try:
-            if name in reg.cvars:
-                cvar = reg.cvars[name]
-                if not args:
-                    self.print(f'"{name}" is "{cvar.text()}" (default "{cvar.default}")')
-                    return True
-                if len(args) > 1:
-                    raise CommandError(f"{name} takes one value; quote it if it has spaces")
-                cvar.set(args[0])
-            elif name in reg.commands:
-                cmd = reg.commands[name]
-                cmd.handler(*cmd.bind(args))
-            else:
-                raise CommandError(f"unknown command {name!r}")
+            recorded = self._dispatch(name, args)
+        except Reported:
+            return False
         except (CommandError, ValueError) as exc:  # model validation errors are ValueErrors
             self.error(f"{name}: {exc}")
             return False
         except Exception:  # a bug in a handler must not take the editor down
             self.error(f"{name}: internal error\n{traceback.format_exc(limit=3)}")
             return False
+        finally:
+            self._depth -= 1
+        if recorded is None:
+            return False
         text = shlex.join(words)
         for listener in self.executed_listeners:
             listener(text)
+        if recorded:
+            for listener in self.record_listeners:
+                listener(text)
         return True
+
+    def _dispatch(self, name: str, args: list[str]) -> bool | None:
+        """Run one command; True if it should be recorded, None if it failed (already logged)."""
+        reg = self.registry
+        if name in reg.cvars:
+            cvar = reg.cvars[name]
+            if not args:
+                self.print(f'"{name}" is "{cvar.text()}" (default "{cvar.default}")')
+                return False
+            if len(args) > 1:
+                raise CommandError(f"{name} takes one value; quote it if it has spaces")
+            cvar.set(args[0])
+            return True
+        if name in reg.commands:
+            cmd = reg.commands[name]
+            cmd.handler(*cmd.bind(args))
+            return cmd.recorded
+        if name in reg.aliases:
+            if args:
+                raise CommandError(f"alias {name} takes no arguments")
+            return None if not self.execute(reg.aliases[name], echo=False) else False
+        runner = next((r for suffix, r in self.file_runners.items() if name.endswith(suffix)), None)
+        if runner is not None and not args:
+            return None if not runner(name) else False
+        raise CommandError(f"unknown command {name!r}")
+
+    def request_quit(self) -> None:
+        for listener in self.quit_listeners:
+            listener()

@@ -10,6 +10,10 @@ class CommandError(Exception):
     """A command refused its input; the message goes to the console log, the model is untouched."""
 
 
+class Reported(CommandError):
+    """A command failed and already said why (a script or file it ran logged the errors)."""
+
+
 @dataclass(frozen=True)
 class Param:
     name: str
@@ -41,7 +45,8 @@ class Command:
     handler: Callable[..., Any]
     params: tuple[Param, ...] = ()
     help: str = ""
-    completer: Callable[[str], list[str]] | None = None
+    completer: Callable[[str], list[str]] | None = None  # candidates for the argument being typed
+    recorded: bool = True  # False for queries and for commands that only run others (exec, lua, play)
 
     def usage(self) -> str:
         return " ".join([self.name, *(p.usage() for p in self.params)])
@@ -90,6 +95,7 @@ class Cvar:
     max: float | None = None
     archive: bool = False
     on_change: list[Callable[["Cvar"], None]] = field(default_factory=list)
+    user_created: bool = False  # made by `set`; a later registration of the name takes it over
 
     def __post_init__(self) -> None:
         self.value = self.parse(str(self.default))
@@ -133,12 +139,13 @@ class Registry:
     def __init__(self) -> None:
         self.commands: dict[str, Command] = {}
         self.cvars: dict[str, Cvar] = {}
+        self.aliases: dict[str, str] = {}
 
-    def command(self, name: str, spec: str = "", help: str = "", completer=None):
+    def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True):
         """Decorator: register `handler` under `name` with an argument spec like 'x:float [y:int]'."""
 
         def register(handler):
-            self.add_command(Command(name, handler, parse_params(spec), help, completer))
+            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded))
             return handler
 
         return register
@@ -149,15 +156,28 @@ class Registry:
         return cmd
 
     def add_cvar(self, cvar: Cvar) -> Cvar:
-        self._claim(cvar.name)
+        """Register a cvar; one that `set` made earlier (a config ran first) hands over its value."""
+        old = self.cvars.get(cvar.name)
+        if old is not None and old.user_created:
+            try:
+                cvar.value = cvar.parse(old.text())
+            except CommandError:
+                pass  # the text does not fit the real type: the default stands
+        else:
+            self._claim(cvar.name)
         self.cvars[cvar.name] = cvar
         return cvar
 
+    def set_alias(self, name: str, text: str) -> None:
+        if name not in self.aliases:
+            self._claim(name)
+        self.aliases[name] = text
+
     def names(self) -> list[str]:
-        return sorted([*self.commands, *self.cvars])
+        return sorted([*self.commands, *self.cvars, *self.aliases])
 
     def _claim(self, name: str) -> None:
-        if not name or any(c.isspace() for c in name) or name[0] in "\"';":
+        if not name or any(c.isspace() for c in name) or name[0] in "\"';" or ";" in name:
             raise ValueError(f"bad console name {name!r}")
-        if name in self.commands or name in self.cvars:
+        if name in self.commands or name in self.cvars or name in self.aliases:
             raise ValueError(f"console name {name!r} is already registered")

@@ -1,23 +1,42 @@
-"""The console dock: the log above, a command line below; Enter runs, Up/Down walk the history."""
+"""The console dock, as Quake's: the log above, a command line below.
+
+Enter runs; Up/Down walk the history (kept in the user's config folder between runs); Tab completes
+to the longest common prefix and lists the candidates; PageUp/PageDown scroll the log; Esc closes.
+"""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
+from pathlib import Path
+
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QColor, QFont, QTextCharFormat
 from PySide6.QtWidgets import QLineEdit, QPlainTextEdit, QVBoxLayout, QWidget
 
+from app.console.completion import complete
 from app.console.console import Console, LogLine
+from app.io.atomic import write_text
 
 COLOURS = {"input": "#8ecae6", "info": "#d0d4dc", "error": "#ff6b6b"}
+HISTORY_LINES = 500
 
 
 class CommandLine(QLineEdit):
-    def __init__(self, console: Console, parent=None) -> None:
+    closed = Signal()
+    page = Signal(int)  # -1 PageUp, +1 PageDown
+
+    def __init__(self, console: Console, history_path: Path, parent=None) -> None:
         super().__init__(parent)
         self.console = console
-        self.history: list[str] = []
-        self._index = 0
-        self.setPlaceholderText("command (help lists them)")
+        self.history_path = history_path
+        self.history = self._read_history()
+        self._index = len(self.history)
+        self.setPlaceholderText("command (help, Tab completes)")
         self.returnPressed.connect(self._run)
+
+    def _read_history(self) -> list[str]:
+        try:
+            return self.history_path.read_text(encoding="utf-8").splitlines()[-HISTORY_LINES:]
+        except (OSError, UnicodeDecodeError):
+            return []
 
     def _run(self) -> None:
         line = self.text().strip()
@@ -26,38 +45,73 @@ class CommandLine(QLineEdit):
             return
         if not self.history or self.history[-1] != line:
             self.history.append(line)
+            try:
+                write_text(self.history_path, "\n".join(self.history[-HISTORY_LINES:]) + "\n")
+            except OSError as exc:
+                self.console.error(f"cannot keep the history in {self.history_path}: {exc.strerror}")
         self._index = len(self.history)
         self.console.execute(line)
 
+    def event(self, event) -> bool:
+        # Tab would move the focus before keyPressEvent saw it.
+        if event.type() == event.Type.KeyPress and event.key() == Qt.Key.Key_Tab:
+            self._complete()
+            return True
+        return super().event(event)
+
+    def _complete(self) -> None:
+        result = complete(self.console.registry, self.text())
+        if len(result.candidates) > 1:
+            self.console.print("  ".join(result.candidates))
+        self.setText(result.line)
+
     def keyPressEvent(self, event) -> None:
-        step = {Qt.Key.Key_Up: -1, Qt.Key.Key_Down: 1}.get(event.key())
-        if step is None or not self.history:
+        key = event.key()
+        if key in (Qt.Key.Key_Up, Qt.Key.Key_Down) and self.history:
+            step = -1 if key == Qt.Key.Key_Up else 1
+            self._index = max(0, min(len(self.history), self._index + step))
+            self.setText(self.history[self._index] if self._index < len(self.history) else "")
+        elif key in (Qt.Key.Key_PageUp, Qt.Key.Key_PageDown):
+            self.page.emit(-1 if key == Qt.Key.Key_PageUp else 1)
+        elif key == Qt.Key.Key_Escape:
+            self.closed.emit()
+        elif key == Qt.Key.Key_QuoteLeft and not self.text():
+            self.closed.emit()  # ` toggles the console, also from inside it
+        else:
             super().keyPressEvent(event)
-            return
-        self._index = max(0, min(len(self.history), self._index + step))
-        self.setText(self.history[self._index] if self._index < len(self.history) else "")
 
 
 class ConsoleWidget(QWidget):
-    def __init__(self, console: Console, parent=None) -> None:
+    def __init__(self, console: Console, history_path: Path, parent=None) -> None:
         super().__init__(parent)
+        self.console = console
         self.log = QPlainTextEdit(readOnly=True)
         self.log.setMaximumBlockCount(5000)
         font = QFont("monospace")
         font.setStyleHint(QFont.StyleHint.TypeWriter)
         self.log.setFont(font)
         self.log.setStyleSheet("QPlainTextEdit { background: #14161c; }")  # the log's colours are for a dark ground
-        self.input = CommandLine(console)
+        self.input = CommandLine(console, history_path)
         self.input.setFont(font)
+        self.input.page.connect(self._page)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addWidget(self.log)
         layout.addWidget(self.input)
-        for line in console.log:
-            self.append(line)
-        console.log_listeners.append(self.append)
+        self._shown = 0
+        console.log_listeners.append(lambda _line: self.sync())
+        self.sync()
 
-    def append(self, line: LogLine) -> None:
+    def sync(self) -> None:
+        """Show log lines added since the last sync; `clear` emptied the console's log."""
+        if len(self.console.log) < self._shown:
+            self.log.clear()
+            self._shown = 0
+        for line in self.console.log[self._shown:]:
+            self._append(line)
+        self._shown = len(self.console.log)
+
+    def _append(self, line: LogLine) -> None:
         fmt = QTextCharFormat()
         fmt.setForeground(QColor(COLOURS.get(line.level, COLOURS["info"])))
         cursor = self.log.textCursor()
@@ -66,3 +120,7 @@ class ConsoleWidget(QWidget):
             cursor.insertBlock()
         cursor.insertText(line.text, fmt)
         self.log.verticalScrollBar().setValue(self.log.verticalScrollBar().maximum())
+
+    def _page(self, direction: int) -> None:
+        bar = self.log.verticalScrollBar()
+        bar.setValue(bar.value() + direction * bar.pageStep())

@@ -1,10 +1,11 @@
 """The main window: the viewport in the middle, docks around it, a workspace switcher, frame stats."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QStackedWidget
 
+from app.console import files
 from app.editor import Editor
 from app.model.workspace import WORKSPACES
 from app.views.bench_dock import BenchDock
@@ -31,7 +32,7 @@ class MainWindow(QMainWindow):
         self.placeholder = QLabel(alignment=Qt.AlignmentFlag.AlignCenter, wordWrap=True)
         self.panels.addWidget(self.snowflake_panel)
         self.panels.addWidget(self.placeholder)
-        self.console_widget = ConsoleWidget(self.editor.console)
+        self.console_widget = ConsoleWidget(self.editor.console, files.history_file())
         self.bench = BenchDock()
         self.docks = {
             "editor": self._dock("Editor", self.panels, Qt.DockWidgetArea.LeftDockWidgetArea),
@@ -44,6 +45,13 @@ class MainWindow(QMainWindow):
         self.workspace_actions = self._workspace_bar()
         toggle = QAction("Console", self, shortcut=QKeySequence("`"), triggered=self.toggle_console)
         self.addAction(toggle)
+        self.console_widget.input.closed.connect(self.toggle_console)
+        self.viewport.key_command.connect(self.run)
+
+        # Demo playback and `wait` advance on a timer that runs only while they have work.
+        self.ticker = QTimer(self, interval=10, timeout=self._tick)
+        self.editor.demos.frame = self.viewport.repaint  # timedemo draws each frame now
+        self.editor.console.quit_listeners.append(self.close)
 
         self.frame_label = QLabel()
         self.frame_label.setMinimumWidth(320)
@@ -55,6 +63,19 @@ class MainWindow(QMainWindow):
         self.viewport.gl_error.connect(self.editor.console.error)
         self.editor.console.executed_listeners.append(lambda _line: self.refresh())
         self.refresh()
+
+    def _tick(self) -> None:
+        self.editor.demos.update()
+        self.editor.console.frame()
+        self.refresh()
+        if not (self.editor.demos.playing or self.editor.console.waiting):
+            self.ticker.stop()
+
+    def closeEvent(self, event) -> None:
+        """Quake writes config.cfg on the way out: archived cvars, binds and aliases survive."""
+        self.editor.demos.stop_all()
+        self.editor.console.execute("writeconfig", echo=False)
+        super().closeEvent(event)
 
     def _dock(self, title: str, widget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -86,9 +107,14 @@ class MainWindow(QMainWindow):
         dock.setVisible(not dock.isVisible())
         if dock.isVisible():
             self.console_widget.input.setFocus()
+        else:
+            self.viewport.setFocus()
 
     def refresh(self) -> None:
         """Bring widgets in line with the model and redraw only if something drawn changed."""
+        self.console_widget.sync()
+        if (self.editor.demos.playing or self.editor.console.waiting) and not self.ticker.isActive():
+            self.ticker.start()
         version = self.editor.version()
         if version == self._drawn_version:
             return

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt
 
-LEVEL_STEP = 0.25
 PICK_PIXELS = 12
 ZOOM_STEP = 1.15
 
@@ -75,10 +74,3 @@ class SnowflakeTool:
         h = min(1e4, max(1e-3, cam.height * factor))
         k = h / cam.height
         self.run(f"snow.view {x + (cam.cx - x) * k:.5f} {y + (cam.cy - y) * k:.5f} {h:.5f}")
-
-    def key(self, event) -> bool:
-        step = {Qt.Key.Key_W: LEVEL_STEP, Qt.Key.Key_S: -LEVEL_STEP}.get(event.key())
-        if step is None:
-            return False
-        self.run(f"snow.step {step}")
-        return True

@@ -9,6 +9,7 @@ from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
 from app.gl.workspace_renderer import WorkspaceRenderer
+from app.views.keys import key_name
 
 SHADER_POLL_MS = 500
 
@@ -19,6 +20,7 @@ class Viewport(QOpenGLWidget):
     frame_rendered = Signal(float)  # milliseconds, GPU work finished
     gl_error = Signal(str)
     gl_ready = Signal(str)  # the renderer's name, once the context exists
+    key_command = Signal(str)  # a bound key was pressed: run this command line
 
     def __init__(self, editor, parent=None) -> None:
         super().__init__(parent)
@@ -86,5 +88,10 @@ class Viewport(QOpenGLWidget):
             self.tool.wheel(event)
 
     def keyPressEvent(self, event) -> None:
-        if not (self.tool and self.tool.key(event)):
+        """Keys run their `bind`ings (the current workspace's first, then the global ones)."""
+        name = key_name(event.key())
+        command = self.editor.binds.lookup(self.editor.workspace, name) if name else None
+        if command and not event.modifiers() & (Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.AltModifier):
+            self.key_command.emit(command)
+        else:
             super().keyPressEvent(event)

@@ -1,0 +1,52 @@
+"""Key bindings, Quake style: a key name bound to a command line, optionally per workspace.
+
+`bind w "snow.step 0.25"` binds everywhere; `bind snowflake:w ...` only in that workspace, where it
+wins over the global one. Key names are the Quake console's, so configs read the same.
+"""
+from __future__ import annotations
+
+import shlex
+import string
+
+NAMED = ("TAB", "ENTER", "ESCAPE", "SPACE", "BACKSPACE", "UPARROW", "DOWNARROW", "LEFTARROW",
+         "RIGHTARROW", "INS", "DEL", "PGDN", "PGUP", "HOME", "END", "PAUSE", "SHIFT", "CTRL", "ALT",
+         "KP_PLUS", "KP_MINUS", "MOUSE1", "MOUSE2", "MOUSE3", "MWHEELUP", "MWHEELDOWN")
+KEYS = frozenset([*string.ascii_lowercase, *string.digits, *"`-=[]\\,./'", *NAMED,
+                  *(f"F{i}" for i in range(1, 13))])
+
+
+def normalise(key: str) -> str:
+    """'W' -> 'w', 'f1' -> 'F1', 'pgup' -> 'PGUP'; refuses names that are no key."""
+    if len(key) == 1:
+        name = key.lower()
+    else:
+        name = key.upper()
+    if name not in KEYS:
+        raise ValueError(f"no key called {key!r} (keys: a-z, 0-9, F1-F12, {', '.join(NAMED[:9])}...)")
+    return name
+
+
+def split(spec: str) -> tuple[str, str]:
+    """'snowflake:w' -> ('snowflake', 'w'); 'w' -> ('', 'w')."""
+    scope, sep, key = spec.rpartition(":")
+    if sep and not scope:  # ':' itself is not a key we bind; keep the message clear
+        raise ValueError(f"no key called {spec!r}")
+    return scope, normalise(key)
+
+
+class Binds:
+    def __init__(self) -> None:
+        self.table: dict[tuple[str, str], str] = {}
+
+    def bind(self, spec: str, command: str) -> None:
+        self.table[split(spec)] = command
+
+    def unbind(self, spec: str) -> bool:
+        return self.table.pop(split(spec), None) is not None
+
+    def lookup(self, workspace: str, key: str) -> str | None:
+        return self.table.get((workspace, key)) or self.table.get(("", key))
+
+    def lines(self) -> list[str]:
+        """`bind` commands that recreate the table, sorted (for bindlist and writeconfig)."""
+        return [f"bind {f'{s}:' if s else ''}{k} {shlex.quote(c)}" for (s, k), c in sorted(self.table.items())]

@@ -1,0 +1,129 @@
+"""The demo commands: record, stop, play, pause, timedemo. The host drives playback with update()."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Callable
+
+from app.console import demo, files
+from app.console.console import Console
+from app.console.registry import CommandError, Reported
+
+DEMO_SUFFIX = ".demo"
+
+
+def _demo_path(name: str) -> str:
+    return name if name.endswith(DEMO_SUFFIX) else name + DEMO_SUFFIX
+
+
+class Demos:
+    """At most one recording and one playback at a time.
+
+    `preamble()` gives the commands that rebuild the current state (a recording starts with them);
+    `frame()` draws one frame, for timedemo (None: the host draws nothing, only commands are timed).
+    """
+
+    def __init__(self, console: Console, clock: demo.Clock, preamble: Callable[[], list[str]],
+                 frame: Callable[[], None] | None = None) -> None:
+        self.console, self.clock, self.preamble, self.frame = console, clock, preamble, frame
+        self.recorder: demo.Recorder | None = None
+        self.player: demo.Player | None = None
+        self._register()
+
+    @property
+    def playing(self) -> bool:
+        return self.player is not None
+
+    def update(self) -> None:
+        """Hosts call this often while playing (a Qt timer; the headless loop after sleeping)."""
+        if self.player is not None:
+            self.player.update()
+
+    def _load(self, name: str) -> list[demo.Event]:
+        path = files.find(_demo_path(name))
+        if path is None:
+            raise CommandError(f"cannot find {_demo_path(name)}")
+        try:
+            return demo.load(self.console, path)
+        except demo.DemoError as exc:
+            raise CommandError(str(exc)) from None
+
+    def _finished(self) -> None:
+        player, self.player = self.player, None
+        if player is not None:
+            failed = f", {player.failed} failed" if player.failed else ""
+            self.console.print(f"demo finished: {len(player.events)} commands{failed}")
+
+    def stop_all(self) -> None:
+        """Stop playback and save a recording in progress (also on quit)."""
+        if self.player is not None:
+            self.player = None
+            self.console.print("playback stopped")
+        if self.recorder is not None:
+            recorder, self.recorder = self.recorder, None
+            count = recorder.stop()
+            self.console.print(f"recorded {count} commands to {recorder.path}")
+
+    def _register(self) -> None:
+        reg = self.console.registry
+        demo_files = lambda p: files.complete(p, (DEMO_SUFFIX,))  # noqa: E731
+
+        @reg.command("record", "demo", "Record every command with its time into a .demo file (stop ends it)",
+                     recorded=False)
+        def record(name: str) -> None:
+            if self.recorder is not None:
+                raise CommandError(f"already recording {self.recorder.path}; stop first")
+            path = Path(_demo_path(name))
+            if not path.parent.is_dir():
+                raise CommandError(f"no folder {path.parent}")
+            self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble())
+            self.console.print(f"recording to {path}")
+
+        @reg.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False)
+        def stop() -> None:
+            if self.recorder is None and self.player is None:
+                raise CommandError("nothing is recording or playing")
+            self.stop_all()
+
+        @reg.command("play", "demo [speed:float]", "Replay a demo at its recorded times (speed 2 = twice as fast)",
+                     recorded=False, completer=demo_files)
+        def play(name: str, speed: float = 1.0) -> None:
+            if self.player is not None:
+                raise CommandError("a demo is already playing; stop it first")
+            if speed <= 0:
+                raise CommandError(f"speed must be > 0, got {speed:g}")
+            events = self._load(name)
+            self.player = demo.Player(self.console, self.clock, events, speed, on_done=self._finished)
+            self.console.print(f"playing {_demo_path(name)}: {len(events)} commands, "
+                               f"{events[-1].time / speed if events else 0:.1f} s")
+            self.player.update()
+
+        @reg.command("pause", "", "Pause or resume the demo playing", recorded=False)
+        def pause() -> None:
+            if self.player is None:
+                raise CommandError("no demo is playing")
+            if self.player.paused_at is None:
+                self.player.pause()
+                self.console.print("paused")
+            else:
+                self.player.resume()
+                self.console.print("resumed")
+
+        @reg.command("timedemo", "demo", "Replay a demo as fast as possible, a frame per time step, and "
+                     "print frames per second", recorded=False, completer=demo_files)
+        def timedemo(name: str) -> None:
+            events = self._load(name)
+            frames, failed = 0, 0
+            start = time.perf_counter()
+            for i, event in enumerate(events):
+                failed += not self.console.execute(event.line, echo=False)
+                if i + 1 == len(events) or events[i + 1].time != event.time:
+                    if self.frame is not None:
+                        self.frame()
+                    frames += 1
+            seconds = max(time.perf_counter() - start, 1e-9)
+            drawn = "" if self.frame is not None else " (commands only, nothing drawn)"
+            self.console.print(f"timedemo {_demo_path(name)}: {frames} frames in {seconds:.3f} s = "
+                               f"{frames / seconds:.1f} frames/s{drawn}")
+            if failed:
+                raise Reported()  # each failed command logged its reason

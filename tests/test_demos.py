@@ -1,0 +1,135 @@
+"""Demos: recorded with their times, replayed on a virtual clock to the same state digest."""
+import pytest
+
+from app.console import demo
+from app.console.demo import VirtualClock
+from app.editor import Editor
+
+
+@pytest.fixture(autouse=True)
+def isolated(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+
+
+def errors(editor):
+    return [line.text for line in editor.console.log if line.level == "error"]
+
+
+def record_session(clock):
+    """A session touching cvars and the model, mid-way through a changed state."""
+    e = Editor(clock=clock)
+    e.execute("snow.add 0.25 0.5 0.125; cl_steps 200")  # before recording: the preamble must carry it
+    e.execute("record session")
+    clock.advance(0.5)
+    e.execute("snow.level 2.75")
+    clock.advance(0.25)
+    e.execute("set r_fresh 3; snow.move 0 -0.5 0.1")
+    e.execute("help snow.add")  # a query: not recorded
+    e.execute("snow.level 99")  # refused: not recorded
+    clock.advance(1.0)
+    e.execute("snow.view 0.1 0.2 1.5; snow.remove 2")
+    e.execute("stop")
+    return e
+
+
+def test_record_then_replay_in_a_fresh_editor_gives_the_same_digest(tmp_path):
+    recorded = record_session(VirtualClock())
+    text = (tmp_path / "session.demo").read_text()
+    assert text.startswith("shadelab-demo 1\n")
+    assert "help" not in text and "snow.level 99" not in text
+    assert "0.500 snow.level 2.75" in text and "1.750 snow.remove 2" in text
+
+    clock = VirtualClock()
+    fresh = Editor(clock=clock)
+    assert fresh.digest() != recorded.digest()
+    assert fresh.execute("play session")
+    clock.advance(0.6)
+    fresh.demos.update()
+    assert fresh.snowflake.level == 2.75 and fresh.demos.playing
+    clock.advance(1.2)
+    fresh.demos.update()
+    assert not fresh.demos.playing
+    assert fresh.digest() == recorded.digest()
+    cam, rec = fresh.snowflake_camera, recorded.snowflake_camera
+    assert (cam.cx, cam.cy, cam.height) == (rec.cx, rec.cy, rec.height)  # the view too
+
+
+def test_speed_pause_and_stop(tmp_path):
+    record_session(VirtualClock())
+    clock = VirtualClock()
+    e = Editor(clock=clock)
+    e.execute("play session 2")
+    clock.advance(0.3)  # 0.6 s of demo time at speed 2
+    e.demos.update()
+    assert e.snowflake.level == 2.75
+    e.execute("pause")
+    clock.advance(10)
+    e.demos.update()
+    assert e.demos.playing and len(e.snowflake.flakes) == 8  # the remove at 1.75 s has not run
+    e.execute("pause")  # resume
+    clock.advance(0.6)
+    e.demos.update()
+    assert not e.demos.playing and len(e.snowflake.flakes) == 7
+    e.execute("play session")
+    assert e.execute("stop") and not e.demos.playing
+
+
+def test_timedemo_runs_everything_now_and_prints_fps():
+    record_session(VirtualClock())
+    frames = []
+    e = Editor(clock=VirtualClock(), frame=lambda: frames.append(1))
+    assert e.execute("timedemo session")
+    assert "frames/s" in e.console.log[-1].text
+    assert len(frames) == 4  # the preamble at 0 s, then 0.5, 0.75 and 1.75 s
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("", "not a demo"),
+    ("quake-demo 1\n0 snow.clear\n", "not a demo"),
+    ("shadelab-demo 7\n0 snow.clear\n", "unsupported demo version"),
+    ("shadelab-demo 1\nsoon snow.clear\n", "expected '<seconds> <command>'"),
+    ("shadelab-demo 1\n1.0 snow.clear\n0.5 snow.clear\n", "not before the line above"),
+    ("shadelab-demo 1\n0 snow.clear\n1.0\n", "no command"),
+    ("shadelab-demo 1\n0 snow.clear\n0.5 snow.frobnicate 1\n", "unknown command 'snow.frobnicate'"),
+    ("shadelab-demo 1\n0 snow.clear\n0.5 snow.add 1\n", "missing <y>"),
+    ("shadelab-demo 1\n0 snow.clear\n0.5 cl_steps lots\n", "takes a int"),
+])
+def test_malformed_demo_is_refused_and_nothing_is_applied(tmp_path, text, needle):
+    (tmp_path / "bad.demo").write_text(text)
+    e = Editor(clock=VirtualClock())
+    before = e.digest()
+    assert not e.execute("play bad")
+    assert needle in errors(e)[-1]
+    assert e.digest() == before and not e.demos.playing
+
+
+def test_truncated_demo_is_refused(tmp_path):
+    record_session(VirtualClock())
+    data = (tmp_path / "session.demo").read_bytes()
+    (tmp_path / "cut.demo").write_bytes(data[: len(data) - 9])  # cut inside the last command
+    e = Editor(clock=VirtualClock())
+    before = e.digest()
+    assert not e.execute("play cut")
+    assert e.digest() == before
+
+
+def test_names_created_by_the_demo_itself_are_accepted():
+    events = demo.parse("shadelab-demo 1\n0 set r_new 1\n0.1 r_new 2\n0.2 alias go 'snow.step 1'\n0.3 go\n")
+    demo.check(Editor().console, events)
+
+
+def test_record_refuses_a_second_recording_and_a_missing_folder(tmp_path):
+    e = Editor(clock=VirtualClock())
+    assert not e.execute("record nowhere/x")
+    assert "no folder" in errors(e)[-1]
+    assert e.execute("record a")
+    assert not e.execute("record b")
+    e.demos.stop_all()
+    assert (tmp_path / "a.demo").exists()
+
+
+def test_shipped_demo_plays():
+    e = Editor(clock=VirtualClock())
+    assert e.execute("timedemo snowflake_tour")
+    assert errors(e) == []
+    assert e.snowflake.level == 6 and len(e.snowflake.flakes) == 2
