@@ -112,3 +112,8 @@ def test_comments_outside_quotes_are_dropped():
     assert split_commands('echo a // the rest') == [["echo", "a"]]
     assert split_commands('echo "http://x" // c') == [["echo", "http://x"]]
     assert Console().execute("// only a comment")
+
+
+def test_quoted_and_escaped_separators_stay_in_their_word():
+    assert split_commands("say ';'; say \";;\"") == [["say", ";"], ["say", ";;"]]
+    assert split_commands(r"say a\;b; echo \"x") == [["say", "a;b"], ["echo", '"x']]

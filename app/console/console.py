@@ -17,31 +17,37 @@ class LogLine:
     text: str
 
 
-def strip_comment(line: str) -> str:
-    """Drop a `//` comment that starts outside quotes, as Quake configs write them."""
-    quote = None
+def _outside_quotes(line: str):
+    """Yield (index, char) for the characters of `line` that stand outside quotes."""
+    quote, escaped = None, False
     for i, ch in enumerate(line):
-        if quote:
+        if escaped:  # a backslash-escaped character, as shlex reads it
+            escaped = False
+        elif ch == "\\" and quote != "'":
+            escaped = True
+        elif quote:
             quote = None if ch == quote else quote
         elif ch in "\"'":
             quote = ch
-        elif line.startswith("//", i):
+        else:
+            yield i, ch
+
+
+def strip_comment(line: str) -> str:
+    """Drop a `//` comment that starts outside quotes, as Quake configs write them."""
+    for i, _ch in _outside_quotes(line):
+        if line.startswith("//", i):
             return line[:i]
     return line
 
 
 def split_commands(line: str) -> list[list[str]]:
     """'a 1; b "x;y"' -> [['a', '1'], ['b', 'x;y']]: ';' separates commands outside quotes."""
-    lexer = shlex.shlex(strip_comment(line), posix=True, punctuation_chars=";")
-    lexer.whitespace_split = True
-    lexer.commenters = ""
-    commands: list[list[str]] = [[]]
+    line = strip_comment(line)
+    cuts = [i for i, ch in _outside_quotes(line) if ch == ";"]
+    parts = [line[a + 1:b] for a, b in zip([-1, *cuts], [*cuts, len(line)])]
     try:
-        for token in lexer:
-            if token and set(token) == {";"}:
-                commands.extend([] for _ in token)
-            else:
-                commands[-1].append(token)
+        commands = [shlex.split(part) for part in parts]
     except ValueError as exc:  # unbalanced quotes
         raise CommandError(f"cannot parse {line!r}: {exc}") from None
     return [c for c in commands if c]

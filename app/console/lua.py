@@ -7,7 +7,7 @@ and recorded like typed input.
 Script API
 ----------
 ``cmd.<name>(args...)``
-    Runs a registered console command (or sets/prints a cvar, as typing its name would).
+    Runs a registered console command (or alias, or sets/prints a cvar, as typing it would).
     Dotted names index naturally: ``cmd.snow.add(0, 0.5)`` runs ``snow.add 0 0.5``;
     ``cmd["snow.add"](0, 0.5)`` is the same. Arguments become text: integers as integers,
     floats with enough digits to round-trip exactly (``0.1`` -> ``0.1``), booleans as ``1``/``0``,
@@ -29,31 +29,46 @@ Standard library
     ``assert error ipairs next pairs pcall xpcall select tonumber tostring type rawequal rawlen
     rawget rawset setmetatable getmetatable``; ``string`` (no ``dump``), ``table``, ``math``,
     ``utf8``, ``coroutine``; ``time.clock()`` and ``time.time()`` (``os.clock``/``os.time``).
-    ``setmetatable`` refuses ``__gc`` (finalizers would run outside the instruction budget).
+    ``setmetatable`` refuses ``__gc`` (finalizers run with hooks off, outside every limit).
     Not available: ``io os package require debug dofile loadfile collectgarbage`` and anything
     Python.
 
 Limits
 ------
-Each run gets fresh globals (nothing leaks from one script to the next), a budget of Lua
-instructions (default 50 million, about a second; each call into the console costs
-`CONSOLE_CALL_COST` of it, reading a cvar `CVAR_READ_COST`) and a memory cap (default 64 MiB).
-A script that exceeds either, or raises an error, stops; the console gets one error line naming
-the script, the line and the reason, e.g. ``lua: cube.lua:12: attempt to call a nil value
-(global 'foo')``. Lua pattern matching runs in C, outside the instruction budget: a pathological
-pattern on a long subject can still take a long time.
+Each run gets fresh globals (nothing leaks from one script to the next) and three limits:
+
+- a budget of Lua instructions (default 50 million, a few tenths of a second of plain Lua here;
+  each call into the console costs `CONSOLE_CALL_COST` of it, reading a cvar `CVAR_READ_COST`):
+  ``instruction budget exceeded``;
+- a time limit (default 5 s), for loops whose work is in C functions (``gsub`` over a long string,
+  ``table.insert`` at the front of a long table): ``time limit exceeded (5 s)``;
+- a memory cap (default 64 MiB): ``out of memory (limit 64 MiB)``; a script source may be at
+  most half of it.
+
+Both clocks are checked between Lua instructions, so one single pathological C call (a pattern
+that backtracks exponentially over a long subject) can still run past them.
+
+A script that fails stops, and the console gets one error line naming the script, the line and
+the reason, e.g. ``lua: cube.lua:12: attempt to call a nil value (global 'foo')``. A script cannot
+run another script (through a console command that does), since that would reset its budget.
 
 Sandbox design: the Python callbacks are upvalues of the Lua closures made by `_SETUP`, which runs
 once per runtime with the full standard library; scripts get only the environment table `new_env`
 builds, so without ``debug`` they cannot reach those upvalues. Callbacks take and return only
 strings, numbers and booleans, and never raise (lupa would hand the script the Python exception
 object as the error value): they return ``false, message`` and the Lua side raises the error.
+
+lupa (2.8) pushes a callback's results onto the Lua stack unprotected: a memory error there leaves
+the GIL taken and hangs the process, and one while pushing a call's arguments aborts it. So each
+callback lifts the memory cap just enough for its results, the Lua side restores it right after,
+and a script source may use at most half the cap.
 """
 from __future__ import annotations
 
 import os
 import re
 import shlex
+import time
 from pathlib import Path
 from typing import Any, Callable
 
@@ -71,18 +86,19 @@ CVAR_READ_COST = 100
 BYTECODE_SIGNATURE = b"\x1bLua"
 BUDGET_MESSAGE = "instruction budget exceeded"
 _LUA_OOM = "not enough memory"
+_PUSH_SLACK = 64 * 2**10  # room for the Lua stack and string headers when a callback's results are pushed
 _INT64 = range(-(2**63), 2**63)
 
 # Runs once per LuaRuntime with the full standard library; returns `run(source, chunkname)`.
 _SETUP = r"""
-local py_command, py_execute, py_cvar_get, py_cvar_set, py_print, BUDGET, PERIOD, CALL_COST, READ_COST,
-      BUDGET_MESSAGE = ...
-local assert, error, ipairs, next, pairs, pcall, xpcall, select, tonumber, tostring, type =
-      assert, error, ipairs, next, pairs, pcall, xpcall, select, tonumber, tostring, type
-local rawequal, rawlen, rawget, rawset, setmetatable, getmetatable, load =
-      rawequal, rawlen, rawget, rawset, setmetatable, getmetatable, load
-local sethook, concat, pack, create, resume, status = debug.sethook, table.concat, table.pack,
-      coroutine.create, coroutine.resume, coroutine.status
+local py_command, py_execute, py_cvar_get, py_cvar_set, py_print, py_relimit, py_overtime, BUDGET,
+      PERIOD, CALL_COST, READ_COST, BUDGET_MESSAGE, TIME_MESSAGE = ...
+local error, ipairs, pairs, tostring, type, rawget, setmetatable, load =
+      error, ipairs, pairs, tostring, type, rawget, setmetatable, load
+local sethook, getinfo, concat, pack, create, resume, status = debug.sethook, debug.getinfo,
+      table.concat, table.pack, coroutine.create, coroutine.resume, coroutine.status
+local SELF = debug.getinfo(1, "S").source  -- this chunk: errors blaming it are moved to the script
+local BLAMES_SELF = "^" .. SELF:sub(2):gsub("%p", "%%%0") .. ":%d+: "
 
 -- Strings share one metatable whose __index is the real string library: strip dump from it and
 -- lock the metatable so a script can neither reach dump nor change string methods for later runs.
@@ -90,16 +106,18 @@ string.dump = nil
 getmetatable("").__metatable = false
 _G.python, package.loaded.python = nil, nil  -- lupa registers it even without eval/builtins
 
-local used, exhausted = 0, false
+local used, stopped = 0, nil  -- instructions charged to this run; why it is being stopped, once it is
 
 local function hook()
   used = used + PERIOD
-  if exhausted or used > BUDGET then
-    exhausted = true
+  -- The clock catches loops over C functions (gsub, table.insert on long data...): cheap in
+  -- instructions, not in time. py_overtime returns a boolean: pushing it allocates nothing.
+  if not stopped then stopped = used > BUDGET and BUDGET_MESSAGE or py_overtime() and TIME_MESSAGE end
+  if stopped then
     -- From now on every instruction of this thread fails, so a pcall (or resume, or load reader)
     -- that caught the error cannot loop on: the script unwinds to the runner.
     sethook(hook, "", 1)
-    error(BUDGET_MESSAGE, 2)
+    error(stopped, 2)
   end
 end
 
@@ -107,14 +125,21 @@ end
 -- (it would trip on this very function); the thread's next hook call switches it on.
 local function charge(cost)
   used = used + cost
-  if used > BUDGET then
-    exhausted = true
-    error(BUDGET_MESSAGE, 3)
-  end
+  if not stopped and used > BUDGET then stopped = BUDGET_MESSAGE end
+  if stopped then error(stopped, 3) end
 end
 
 local function raise_unless(ok, message)  -- same level rule as charge
   if not ok then error(message, 3) end
+end
+
+local function relimited(...)
+  py_relimit()  -- the callback lifted the memory cap for its results (see the module docstring)
+  return ...
+end
+
+local function python(fn, ...)  -- every call into Python goes through here
+  return relimited(fn(...))
 end
 
 local function check_values(what, args)
@@ -168,13 +193,13 @@ local function safe_print(...)
   local args = pack(...)
   for i = 1, args.n do args[i] = tostring(args[i]) end
   charge(CALL_COST)
-  py_print(concat(args, "\t", 1, args.n))
+  python(py_print, concat(args, "\t", 1, args.n))
 end
 
 local function exec(line)
   if type(line) ~= "string" then error("exec: expects a console line (string)", 2) end
   charge(CALL_COST)
-  raise_unless(py_execute(line))
+  raise_unless(python(py_execute, line))
 end
 
 local function new_cmd()
@@ -191,7 +216,7 @@ local function new_cmd()
           local args = pack(...)
           check_values("cmd." .. name, args)
           charge(CALL_COST)
-          raise_unless(py_command(name, ...))
+          raise_unless(python(py_command, name, ...))
         end,
         __newindex = read_only,
         __metatable = false,
@@ -215,13 +240,13 @@ local function new_cvar()
     __index = function(_, name)
       if type(name) ~= "string" then return nil end
       charge(READ_COST)
-      return py_cvar_get(name)
+      return python(py_cvar_get, name)
     end,
     __newindex = function(_, name, value)
       if type(name) ~= "string" then error("cvar: names are strings", 2) end
       check_values("cvar." .. name, pack(value))
       charge(CALL_COST)
-      raise_unless(py_cvar_set(name, value))
+      raise_unless(python(py_cvar_set, name, value))
     end,
     __metatable = false,
   })
@@ -253,10 +278,24 @@ local function new_env()
   return env
 end
 
-local function describe(err)  -- never calls a script's __tostring: the hook is off out here
+-- The error message of a failed script run in thread co. Never calls a script's __tostring (the
+-- hook is off out here). A C function called by a wrapper above blames the wrapper's line; the
+-- dead coroutine's stack is intact, so blame the innermost script line instead.
+local function describe(co, err)
   local t = type(err)
-  if t == "string" or t == "number" then return tostring(err) end
-  return "(error object is a " .. t .. " value)"
+  if t ~= "string" and t ~= "number" then return "(error object is a " .. t .. " value)" end
+  err = tostring(err)
+  if not err:find(BLAMES_SELF) then return err end
+  err = err:gsub(BLAMES_SELF, "", 1)
+  local level = 0
+  repeat
+    local info = getinfo(co, level, "Sl")
+    if info and info.source ~= SELF and info.currentline > 0 then
+      return info.short_src .. ":" .. info.currentline .. ": " .. err
+    end
+    level = level + 1
+  until not info
+  return err
 end
 
 -- Returns true, or false, kind ("syntax" or "error") and a message.
@@ -264,12 +303,12 @@ return function(source, chunkname)
   local env = new_env()
   local fn, err = load(source, chunkname, "t", env)
   if not fn then return false, "syntax", err end
-  used, exhausted = 0, false
+  used, stopped = 0, nil
   -- The script runs in its own coroutine so that the hook (and its 1-instruction mode once the
   -- budget is spent) never applies to this runner.
   local co = hooked(create(fn))
   local ok, result = resume(co)
-  if not ok then return false, "error", describe(result) end
+  if not ok then return false, "error", describe(co, result) end
   if status(co) ~= "dead" then return false, "error", "attempt to yield from outside a coroutine" end
   return true
 end
@@ -287,6 +326,16 @@ def _text(value: Any) -> str:
     if isinstance(value, bytes):
         return _decode(value)
     raise TypeError(f"cannot pass a {type(value).__name__}")
+
+
+def _quote(word: str) -> str:
+    """shlex.quote, also quoting '//': outside quotes the console reads it as a comment."""
+    quoted = shlex.quote(word)
+    return f"'{word}'" if quoted == word and "//" in word else quoted
+
+
+def _join(words: list[str]) -> str:
+    return " ".join(map(_quote, words))
 
 
 def _decode(value: bytes) -> str:
@@ -307,18 +356,6 @@ def _to_lua(value: Any) -> bool | int | float | bytes | None:
     return None
 
 
-def _guarded(fn: Callable[..., tuple]) -> Callable[..., tuple]:
-    """Callbacks never raise into Lua: lupa would pass the script the Python exception object."""
-
-    def call(*args: Any) -> tuple:
-        try:
-            return fn(*args)
-        except Exception as exc:
-            return False, f"{type(exc).__name__}: {exc}".encode("utf-8", "replace")
-
-    return call
-
-
 def _refuse_attribute(obj: Any, name: Any, value: Any = None) -> Any:
     raise AttributeError("Python objects are not accessible from Lua")
 
@@ -326,12 +363,20 @@ def _refuse_attribute(obj: Any, name: Any, value: Any = None) -> Any:
 class LuaScripting:
     """Runs Lua scripts against a console, each in a fresh sandbox environment."""
 
-    def __init__(self, console: Console, instruction_budget: int = 50_000_000, memory_limit: int = 64 * 2**20) -> None:
+    def __init__(
+        self,
+        console: Console,
+        instruction_budget: int = 50_000_000,
+        memory_limit: int = 64 * 2**20,
+        time_limit: float = 5.0,
+    ) -> None:
         self.console = console
         self.instruction_budget = instruction_budget
         self.memory_limit = memory_limit
+        self.time_limit = time_limit
         self._running = False
-        self._runtime, self._run = self._new_runtime()
+        self._deadline = 0.0
+        self._lua, self._run = self._new_runtime()
 
     def run_file(self, path: str | os.PathLike) -> bool:
         """Read a script (UTF-8 text) and run it; False, with one console error line, on any failure."""
@@ -365,37 +410,57 @@ class LuaScripting:
             max_memory=self.memory_limit,
             attribute_handlers=(_refuse_attribute, _refuse_attribute),
         )
+        callbacks = (self._command, self._exec, self._cvar_get, self._cvar_set, self._print)
         run = lua.execute(
             _SETUP,
-            _guarded(self._command),
-            _guarded(self._exec),
-            self._cvar_get,
-            _guarded(self._cvar_set),
-            _guarded(self._print),
+            *(self._callback(lua, fn) for fn in callbacks),
+            lambda: lua.set_max_memory(self.memory_limit),
+            lambda: time.monotonic() > self._deadline,
             self.instruction_budget,
             HOOK_PERIOD,
             CONSOLE_CALL_COST,
             CVAR_READ_COST,
             BUDGET_MESSAGE.encode(),
+            f"time limit exceeded ({self.time_limit:g} s)".encode(),
             name="=(lua sandbox)",
             mode="t",
         )
         return lua, run
 
+    def _callback(self, lua: LuaRuntime, fn: Callable[..., Any]) -> Callable[..., Any]:
+        """Never raises into Lua (lupa would hand the script the Python exception object), and makes
+        room for its results under the memory cap (see the module docstring)."""
+
+        def call(*args: Any) -> Any:
+            try:
+                result = fn(*args)
+            except (TypeError, ValueError) as exc:  # our converters refusing a value: a message for the user
+                result = False, str(exc).encode("utf-8", "replace")
+            except Exception as exc:  # a bug: still a Lua error, never a traceback through Lua
+                result = False, f"internal error: {type(exc).__name__}: {exc}".encode("utf-8", "replace")
+            size = sum(len(v) for v in (result if isinstance(result, tuple) else (result,)) if isinstance(v, bytes))
+            lua.set_max_memory(max(self.memory_limit, lua.get_memory_used() + size + _PUSH_SLACK))
+            return result
+
+        return call
+
     def _execute(self, source: bytes, name: str) -> bool:
         if source.startswith(BYTECODE_SIGNATURE):
             return self._fail(name, "precompiled Lua bytecode is refused; run the source text instead")
+        if len(source) > self.memory_limit // 2:  # pushing it could fail outside Lua's protection
+            return self._fail(name, f"script too large ({len(source) / 2**20:.1f} MiB)")
         if self._running:  # a nested run would reset the budget of the script that started it
             return self._fail(name, "cannot run a script from inside a script")
         self._running = True
+        self._deadline = time.monotonic() + self.time_limit
         try:
             result = self._run(source, b"=" + name.encode("utf-8", "replace"))  # True or (False, kind, message)
-        except LuaError as exc:  # the runner itself failed (out of memory outside the script): start over
-            self._runtime, self._run = self._new_runtime()
+        except LuaError as exc:  # the runner itself failed, not the script
             return self._fail(name, self._reason(str(exc) or _LUA_OOM))
         finally:
             self._running = False
-            self._runtime.gccollect()  # a failed script may leave up to the whole memory cap as garbage
+            self._lua.set_max_memory(self.memory_limit)  # in case the script stopped before a relimit
+            self._lua.gccollect()  # a failed script may leave up to the whole memory cap as garbage
         if result is True:
             return True
         _, kind, message = result
@@ -416,7 +481,7 @@ class LuaScripting:
         self.console.error(f"lua: {name}: {reason}")
         return False
 
-    # -- callbacks (Lua -> Python): plain values in, (ok, message) out ------------------------
+    # -- callbacks (Lua -> Python): plain values in; (True,) or (False, message) out ------------
 
     def _run_line(self, line: str) -> tuple:
         if self.console.execute(line):
@@ -425,10 +490,9 @@ class LuaScripting:
 
     def _command(self, name: bytes, *args: Any) -> tuple:
         command = _decode(name)
-        registry = self.console.registry
-        if command not in registry.commands and command not in registry.cvars:
+        if command not in self.console.registry.names():
             return False, f"unknown command {command!r}".encode()
-        return self._run_line(shlex.join([command, *map(_text, args)]))
+        return self._run_line(_join([command, *map(_text, args)]))
 
     def _exec(self, line: bytes) -> tuple:
         return self._run_line(_decode(line))
@@ -440,14 +504,13 @@ class LuaScripting:
     def _cvar_set(self, name: bytes, value: Any) -> tuple:
         cvar = self.console.registry.cvars.get(_decode(name))
         if cvar is None:
-            return False, f"unknown cvar {_decode(name)!r}".encode()
+            return False, f"unknown cvar {name.decode()!r}".encode()
         text = _text(value)
         try:
             cvar.parse(text)  # validate here so the script's error carries the cvar's own message
         except (CommandError, ValueError) as exc:
             return False, str(exc).encode()
-        return self._run_line(shlex.join([cvar.name, text]))
+        return self._run_line(_join([cvar.name, text]))
 
-    def _print(self, text: bytes) -> tuple:
+    def _print(self, text: bytes) -> None:
         self.console.print(text.decode("utf-8", "replace"))
-        return (True,)
