@@ -163,3 +163,13 @@ def test_completion(editor, line, expected_line, expected):
     assert result.line == expected_line
     if expected:
         assert result.candidates == expected
+
+
+@pytest.mark.parametrize("arg, line", [
+    ("my.cfg", "exec my.cfg"), ("ring.lua", "lua ring.lua"), ("tour.demo", "play tour.demo"),
+    ("scene one.json", "scene.load 'scene one.json'"), ("head.r3", "load head.r3"),
+])
+def test_first_argument_of_the_editor(arg, line):
+    from app.views.application import startup_command
+
+    assert startup_command(arg) == line

@@ -111,19 +111,20 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         nxt = parsed[(parsed.index(c.value) + 1) % len(parsed)] if c.value in parsed else parsed[0]
         c.set(values[parsed.index(nxt)])
 
+    def listing(table: dict, prefix: str, describe, noun: str) -> None:
+        shown = [item for name, item in sorted(table.items()) if name.startswith(prefix)]
+        for item in shown:
+            console.print(describe(item))
+        console.print(f"{len(shown)} {noun}")
+
     @reg.command("cvarlist", "[prefix]", "List cvars (A = archived to the user config)", recorded=False)
     def cvarlist(prefix: str = "") -> None:
-        shown = [c for n, c in sorted(reg.cvars.items()) if n.startswith(prefix)]
-        for c in shown:
-            console.print(f"{'A' if c.archive else ' '} {c.name:<22} {c.text():<12} {c.type.__name__:<5} {c.help}")
-        console.print(f"{len(shown)} cvars")
+        listing(reg.cvars, prefix, lambda c: f"{'A' if c.archive else ' '} {c.name:<22} {c.text():<12} "
+                f"{c.type.__name__:<5} {c.help}", "cvars")
 
     @reg.command("cmdlist", "[prefix]", "List commands", recorded=False)
     def cmdlist(prefix: str = "") -> None:
-        shown = [c for n, c in sorted(reg.commands.items()) if n.startswith(prefix)]
-        for c in shown:
-            console.print(f"{c.usage():<44} {c.help}")
-        console.print(f"{len(shown)} commands")
+        listing(reg.commands, prefix, lambda c: f"{c.usage():<44} {c.help}", "commands")
 
     @reg.command("help", "[name]", "Describe a command, cvar or alias; alone, say how to find them",
                  completer=names, recorded=False)

@@ -2,7 +2,9 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
+from pathlib import Path
 
 from PySide6.QtCore import QTimer
 from PySide6.QtGui import QSurfaceFormat
@@ -27,11 +29,17 @@ def set_surface_format() -> None:
 def editor_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="shadelab", epilog="headless: shadelab render ... | shadelab bench ...",
                                 description="Start the Shadelab editor (on its embedded default scene).")
-    p.add_argument("scene", nargs="?", help="scene file to open")
+    p.add_argument("file", nargs="?", help="a .cfg, .lua or .demo to run after start-up, or a file to open")
     p.add_argument("--cmd", action="append", default=[], metavar="COMMAND", help="console command to run at start")
     p.add_argument("--size", default="1400x860", metavar="WxH", help="window size")
     p.add_argument("--screenshot", metavar="PNG", help="save a picture of the window once drawn, then quit")
     return p
+
+
+def startup_command(path: str) -> str:
+    """As Tex3Dtrace's first argument: a config runs after start-up, anything else is opened."""
+    verb = {".cfg": "exec", ".lua": "lua", ".demo": "play", ".json": "scene.load"}.get(Path(path).suffix, "load")
+    return f"{verb} {shlex.quote(path)}"
 
 
 def run_editor(argv: list[str]) -> int:
@@ -43,7 +51,7 @@ def run_editor(argv: list[str]) -> int:
     app.setApplicationName("Shadelab")
     window = MainWindow()
     window.resize(*(int(v) for v in args.size.lower().split("x")))
-    for line in ([f'scene.load "{args.scene}"'] if args.scene else []) + args.cmd:
+    for line in ([startup_command(args.file)] if args.file else []) + args.cmd:
         window.run(line)
     window.show()
     if args.screenshot:
