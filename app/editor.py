@@ -5,16 +5,22 @@ Both hosts drive one of these: the Qt main window and the headless `shadelab ren
 from __future__ import annotations
 
 import hashlib
+import shlex
+from pathlib import Path
 from typing import Callable
 
-from app.commands import core, snowflake as snowflake_commands
+from app.commands import core, snowflake as snowflake_commands, volume as volume_commands
 from app.console import builtins, files
 from app.console.binds import Binds
 from app.console.console import Console
 from app.console.demo import Clock, MonotonicClock
 from app.console.demos import Demos
+from app.io.volume_formats import write_volume
 from app.model.camera2d import Camera2D
 from app.model.snowflake import default_scene
+from app.model.volume import Volume
+from app.model.volume_samples import coords3d
+from app.model.volume_view import VolumeView
 
 START_CONFIGS = ("default.cfg", "shadelab.cfg")
 
@@ -29,10 +35,13 @@ class Editor:
         self.workspace = "snowflake"
         self.snowflake = default_scene()
         self.snowflake_camera = Camera2D()
+        self.volume = Volume(coords3d())  # Tex3Dtrace opened coords3d by default
+        self.volume_view = VolumeView()
         self.lua = builtins.register(self.console, self.binds)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.state_commands, frame)
         core.register(self)
         snowflake_commands.register(self.console, self.snowflake, self.snowflake_camera)
+        volume_commands.register(self)
         if configs:
             self.run_start_configs()
 
@@ -49,17 +58,29 @@ class Editor:
     def version(self) -> tuple:
         """Changes whenever anything a host draws changed: redraw when it differs."""
         cam = self.snowflake_camera
-        return (self.workspace, self.snowflake.version, cam.cx, cam.cy, cam.height)
+        return (self.workspace, self.snowflake.version, cam.cx, cam.cy, cam.height, self.volume.version,
+                self.volume_view.key(), self.console.registry.cvar_changes)
 
     def digest(self) -> dict[str, str]:
         cvars = hashlib.sha256("".join(f"{n}={c.text()};" for n, c in sorted(self.console.registry.cvars.items()))
                                .encode()).hexdigest()[:16]
-        return {"snowflake": self.snowflake.digest(), "cvars": cvars}
+        return {"snowflake": self.snowflake.digest(), "volume": self.volume.digest(), "cvars": cvars}
 
-    def state_commands(self) -> list[str]:
-        """Commands that rebuild the current state from any other: a demo's opening lines."""
+    def state_commands(self, demo_path: Path) -> list[str]:
+        """Commands that rebuild the current state from any other: a demo's opening lines.
+        The voxels go into `<demo>.start.r3` beside the demo unless they are the default sample."""
         scene, cam = self.snowflake, self.snowflake_camera
-        lines = ["snow.clear"]
+        if self.volume.digest() == Volume(coords3d()).digest():
+            lines = ["sample coords3d"]
+        else:
+            snapshot = demo_path.with_suffix(".start.r3")
+            write_volume(snapshot, self.volume.data)
+            lines = [f"load {shlex.quote(str(snapshot.resolve()))}"]
+        v = self.volume_view
+        lines += [f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
+                  f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
+                  f"vol.background {' '.join(map(str, v.background))}"]
+        lines += ["snow.clear"]
         lines += [f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes]
         lines += [f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]
         lines += [f"{'seta' if c.archive else 'set'} {n} {c.text()}"

@@ -25,7 +25,8 @@ def test_start_configs_set_seed_cvars_and_binds(editor):
     assert cvars["cl_steps"].value == 128 and cvars["cl_steps"].type is int and cvars["cl_steps"].archive
     assert cvars["cl_distanceScale"].type is float
     assert editor.binds.lookup("snowflake", "w") == "snow.step 0.25"
-    assert editor.binds.lookup("volume", "w") is None
+    assert editor.binds.lookup("volume", "w") == "orbit.step 0 0 -0.25"
+    assert editor.binds.lookup("clouds", "w") is None
     assert errors(editor) == []
 
 
@@ -136,12 +137,6 @@ def test_quit_tells_the_host(editor):
     editor.console.quit_listeners.append(lambda: told.append(True))
     editor.execute("quit")
     assert told == [True]
-
-
-def test_volume_commands_wait_for_their_workspace(editor):
-    for line in ("load x.r3", "save x.r3", "new 8 8 8"):
-        assert not editor.execute(line)
-        assert "no volume workspace is loaded" in errors(editor)[-1]
 
 
 @pytest.mark.parametrize("line, expected_line, expected", [

@@ -1,4 +1,4 @@
 """`shadelab bench <technique>`: each technique module offers technique() -> Technique."""
-from app.bench import snowflake
+from app.bench import paint, snowflake
 
-TECHNIQUES = {"snowflake": snowflake.technique}
+TECHNIQUES = {"snowflake": snowflake.technique, "paint": paint.technique}

@@ -49,13 +49,6 @@ def register(editor: "Editor") -> None:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
         console.print(f"saved {path}")
 
-    def no_volume(*_args) -> None:
-        raise CommandError("no volume workspace is loaded (it arrives with the volume editor)")
-
-    reg.command("load", "path", "Open a 3D raster image (volume workspace)")(no_volume)
-    reg.command("save", "path", "Save the 3D raster image (volume workspace)")(no_volume)
-    reg.command("new", "w:int h:int d:int", "Make an empty 3D raster image (volume workspace)")(no_volume)
-
     @reg.command("digest", "", "Print a digest of every workspace's model state", recorded=False)
     def digest() -> None:
         for name, value in editor.digest().items():

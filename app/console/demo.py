@@ -123,6 +123,7 @@ class Recorder:
     """Collects every state-changing command with its time; writes the file at stop()."""
 
     def __init__(self, console: Console, clock: Clock, path: Path, preamble: list[str]) -> None:
+        """`preamble`: the commands that rebuild the state at the start (they run at 0 s)."""
         self.console, self.clock, self.path = console, clock, path
         self.start = clock.now()
         self.events = [Event(0.0, line) for line in preamble]

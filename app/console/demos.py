@@ -19,11 +19,12 @@ def _demo_path(name: str) -> str:
 class Demos:
     """At most one recording and one playback at a time.
 
-    `preamble()` gives the commands that rebuild the current state (a recording starts with them);
+    `preamble(demo_path)` gives the commands that rebuild the current state (a recording starts with
+    them; it may write files beside the demo);
     `frame()` draws one frame, for timedemo (None: the host draws nothing, only commands are timed).
     """
 
-    def __init__(self, console: Console, clock: demo.Clock, preamble: Callable[[], list[str]],
+    def __init__(self, console: Console, clock: demo.Clock, preamble: Callable[[Path], list[str]],
                  frame: Callable[[], None] | None = None) -> None:
         self.console, self.clock, self.preamble, self.frame = console, clock, preamble, frame
         self.recorder: demo.Recorder | None = None
@@ -76,7 +77,7 @@ class Demos:
             path = Path(_demo_path(name))
             if not path.parent.is_dir():
                 raise CommandError(f"no folder {path.parent}")
-            self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble())
+            self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble(path))
             self.console.print(f"recording to {path}")
 
         @reg.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False)

@@ -140,6 +140,7 @@ class Registry:
         self.commands: dict[str, Command] = {}
         self.cvars: dict[str, Cvar] = {}
         self.aliases: dict[str, str] = {}
+        self.cvar_changes = 0  # counts every cvar change: hosts redraw when it moves
 
     def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True):
         """Decorator: register `handler` under `name` with an argument spec like 'x:float [y:int]'."""
@@ -165,8 +166,13 @@ class Registry:
                 pass  # the text does not fit the real type: the default stands
         else:
             self._claim(cvar.name)
+        cvar.on_change.append(self._count_change)
         self.cvars[cvar.name] = cvar
+        self.cvar_changes += 1
         return cvar
+
+    def _count_change(self, _cvar: Cvar) -> None:
+        self.cvar_changes += 1
 
     def set_alias(self, name: str, text: str) -> None:
         if name not in self.aliases:

@@ -13,7 +13,7 @@ class WorkspaceInfo:
 
 WORKSPACES = (
     WorkspaceInfo("lighting2d", "2D lighting"),
-    WorkspaceInfo("volume", "Volume"),
+    WorkspaceInfo("volume", "Volume", built=True),
     WorkspaceInfo("clouds", "Clouds"),
     WorkspaceInfo("lights3d", "3D lights"),
     WorkspaceInfo("snowflake", "Snowflake", built=True),

@@ -2,8 +2,8 @@
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer
-from PySide6.QtGui import QAction, QActionGroup, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QStackedWidget
+from PySide6.QtGui import QAction, QActionGroup, QColor, QKeySequence
+from PySide6.QtWidgets import QColorDialog, QDockWidget, QLabel, QMainWindow, QStackedWidget
 
 from app.console import files
 from app.editor import Editor
@@ -11,8 +11,13 @@ from app.model.workspace import WORKSPACES
 from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
 from app.views.snowflake_panel import SnowflakePanel
+from app.views.slice_painter import SlicePainter
+from app.views.slice_picker import SlicePicker
 from app.views.snowflake_tool import SnowflakeTool
 from app.views.viewport import Viewport
+from app.views.volume_tool import VolumeTool
+
+EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520}
 
 
 class MainWindow(QMainWindow):
@@ -25,13 +30,17 @@ class MainWindow(QMainWindow):
 
         self.viewport = Viewport(self.editor)
         self.setCentralWidget(self.viewport)
-        self.tools = {"snowflake": SnowflakeTool(self.viewport, self.run)}
+        self.tools = {"snowflake": SnowflakeTool(self.viewport, self.run), "volume": VolumeTool(self.viewport, self.run)}
 
         self.panels = QStackedWidget()
         self.snowflake_panel = SnowflakePanel(self.editor, self.run)
+        self.painter = SlicePainter(self.editor, self.run)
         self.placeholder = QLabel(alignment=Qt.AlignmentFlag.AlignCenter, wordWrap=True)
-        self.panels.addWidget(self.snowflake_panel)
-        self.panels.addWidget(self.placeholder)
+        self.workspace_panels = {"snowflake": self.snowflake_panel, "volume": self.painter}
+        for panel in (self.snowflake_panel, self.painter, self.placeholder):
+            self.panels.addWidget(panel)
+        self.picker: SlicePicker | None = None
+        self._register_ui_commands()
         self.console_widget = ConsoleWidget(self.editor.console, files.history_file())
         self.bench = BenchDock()
         self.docks = {
@@ -39,7 +48,7 @@ class MainWindow(QMainWindow):
             "console": self._dock("Console", self.console_widget, Qt.DockWidgetArea.BottomDockWidgetArea),
             "bench": self._dock("Speed vs accuracy", self.bench, Qt.DockWidgetArea.RightDockWidgetArea),
         }
-        self.resizeDocks([self.docks["editor"], self.docks["bench"]], [260, 420], Qt.Orientation.Horizontal)
+        self.resizeDocks([self.docks["bench"]], [420], Qt.Orientation.Horizontal)
         self.resizeDocks([self.docks["console"]], [170], Qt.Orientation.Vertical)
 
         self.workspace_actions = self._workspace_bar()
@@ -76,6 +85,33 @@ class MainWindow(QMainWindow):
         self.editor.demos.stop_all()
         self.editor.console.execute("writeconfig", echo=False)
         super().closeEvent(event)
+
+    def _register_ui_commands(self) -> None:
+        """Dialogs the binds open; what they choose comes back as ordinary commands."""
+        reg = self.editor.console.registry
+        view = self.editor.volume_view
+
+        def colour_dialog(title: str, rgba, alpha: bool) -> QColor | None:
+            options = QColorDialog.ColorDialogOption.ShowAlphaChannel if alpha else QColorDialog.ColorDialogOption(0)
+            colour = QColorDialog.getColor(QColor(*rgba), self, title, options)
+            return colour if colour.isValid() else None
+
+        @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c)", recorded=False)
+        def brush_colour() -> None:
+            if colour := colour_dialog("Brush colour", view.brush, alpha=True):
+                self.run(f"brush.color {colour.red()} {colour.green()} {colour.blue()} {colour.alpha()}")
+
+        @reg.command("ui.background", "", "Choose the 3D view's background colour (key c)", recorded=False)
+        def background() -> None:
+            if colour := colour_dialog("Background colour", view.background, alpha=False):
+                self.run(f"vol.background {colour.red()} {colour.green()} {colour.blue()}")
+
+        @reg.command("ui.slicepicker", "", "Open the slice picker (key v)", recorded=False)
+        def slice_picker() -> None:
+            if self.picker is None:
+                self.picker = SlicePicker(self.editor, self.tools["volume"], self.run, self)
+                self.picker.finished.connect(lambda _r: setattr(self, "picker", None))
+            self.picker.show()
 
     def _dock(self, title: str, widget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -123,12 +159,14 @@ class MainWindow(QMainWindow):
             self._show_workspace(workspace)
         self._drawn_version = version
         self.snowflake_panel.sync()
+        self.painter.sync()
         self.viewport.update()
 
     def _show_workspace(self, name: str) -> None:
         self.workspace_actions[name].setChecked(True)
         self.viewport.tool = self.tools.get(name)
-        self.panels.setCurrentWidget(self.snowflake_panel if name == "snowflake" else self.placeholder)
+        self.panels.setCurrentWidget(self.workspace_panels.get(name, self.placeholder))
+        self.resizeDocks([self.docks["editor"]], [EDITOR_DOCK_WIDTH.get(name, 260)], Qt.Orientation.Horizontal)
         self.bench.show_technique(name)
 
     def _gl_ready(self, renderer: str) -> None:

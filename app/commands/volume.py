@@ -1,0 +1,191 @@
+"""The raster editor's verbs (seed 003, Tex3Dtrace). Names and arguments are fixed: scripts and outside
+tests rely on them. Colour components are 0-255 integers; slices are (axis, index) with (u, v) inside."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from app.console import files
+from app.console.registry import CommandError, Cvar
+from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
+from app.model.camera3d import OrbitCamera
+from app.model.volume import AXES, Volume
+from app.model.volume_samples import SAMPLES, make
+
+if TYPE_CHECKING:
+    from app.editor import Editor
+
+MAX_SAMPLE = 512
+
+
+def _rgba(r: int, g: int, b: int, a: int) -> tuple[int, int, int, int]:
+    rgba = (r, g, b, a)
+    if not all(0 <= c <= 255 for c in rgba):
+        raise CommandError(f"colour components must be 0..255, got {' '.join(map(str, rgba))}")
+    return rgba
+
+
+def _axis(axis: str) -> str:
+    if axis not in AXES:
+        raise CommandError(f"axis must be x, y or z, got {axis!r}")
+    return axis
+
+
+def _points(coords: list[int]) -> list[tuple[int, int]]:
+    if not coords or len(coords) % 2:
+        raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
+    return list(zip(coords[0::2], coords[1::2]))
+
+
+def register(editor: "Editor") -> None:
+    console = editor.console
+    reg = console.registry
+    view = editor.volume_view
+    volume_files = lambda p: files.complete(p, SUPPORTED)  # noqa: E731
+    # The seed's ray-tracer variables (default.cfg sets them too): typed and bounded here.
+    for name, kind, default, lo, hi, text in (
+            ("cl_steps", int, 128, 1, 4096, "minimum ray steps across the volume (S = cl_steps * |AB|)"),
+            ("cl_shadowSteps", int, 20, 1, 1024, "constant shadow steps"),
+            ("cl_distanceScale", float, 1.0, 0.1, 16.0, "distance-function step multiplier"),
+            ("cl_sampleRange", float, 1.0, 0.25, 8.0, "normal sampling radius, in voxels")):
+        reg.add_cvar(Cvar(name, kind, default, text, min=lo, max=hi, archive=True))
+    brush_round = reg.add_cvar(Cvar("brush_round", bool, True, "Round brush (0: square)", archive=True))
+    reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
+    preview = {"active": False}  # a stroke shown while the mouse is down; replaced by the real one
+
+    def volume() -> Volume:
+        return editor.volume
+
+    def replace(data, what: str) -> None:
+        volume().replace(data)
+        view.index = min(view.index, volume().depth(view.axis) - 1)
+        console.print(f"{what}: {'x'.join(map(str, volume().size))}")
+
+    def end_preview() -> None:
+        if preview["active"]:
+            preview["active"] = False
+            volume().undo()
+
+    @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
+    def new(w: int, h: int, d: int) -> None:
+        replace(Volume.new(w, h, d).data, "new volume")
+
+    @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd)",
+                 completer=volume_files)
+    def load(path: str) -> None:
+        found = files.find(path) if "%" not in path else Path(path)
+        try:
+            data = read_volume(found or path)
+        except FormatError as exc:
+            raise CommandError(str(exc)) from None
+        replace(data, f"loaded {path}")
+
+    @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically)", recorded=False,
+                 completer=volume_files)
+    def save(path: str) -> None:
+        try:
+            write_volume(path, volume().data)
+        except (FormatError, OSError) as exc:
+            raise CommandError(str(exc)) from None
+        console.print(f"saved {path}")
+
+    @reg.command("sample", "name [size:int]", "Load a sample volume: " + ", ".join(SAMPLES),
+                 completer=lambda p: [s for s in SAMPLES if s.startswith(p)])
+    def sample(name: str, size: int = 64) -> None:
+        if name not in SAMPLES:
+            raise CommandError(f"no sample {name!r}; choose one of {', '.join(SAMPLES)}")
+        if not 8 <= size <= MAX_SAMPLE:
+            raise CommandError(f"sample size must be within 8..{MAX_SAMPLE}, got {size}")
+        replace(make(name, size), f"sample {name}")
+
+    @reg.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel")
+    def voxel(x: int, y: int, z: int, r: int, g: int, b: int, a: int) -> None:
+        volume().set_voxel(x, y, z, _rgba(r, g, b, a))
+
+    def stroke_args(axis, index, size, r, g, b, a, coords):
+        return _axis(axis), index, size, _rgba(r, g, b, a), _points(coords)
+
+    @reg.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
+                 "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)")
+    def stroke(axis, index, size, r, g, b, a, coords) -> None:
+        args = stroke_args(axis, index, size, r, g, b, a, coords)
+        end_preview()
+        volume().stroke(*args, round_brush=brush_round.value)
+
+    @reg.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
+                 "Show a stroke in progress (the painter, while the mouse is down); not recorded", recorded=False)
+    def stroke_preview(axis, index, size, r, g, b, a, coords) -> None:
+        args = stroke_args(axis, index, size, r, g, b, a, coords)
+        end_preview()
+        preview["active"] = volume().stroke(*args, round_brush=brush_round.value) is not None
+
+    @reg.command("stroke.cancel", "", "Drop a stroke in progress", recorded=False)
+    def stroke_cancel() -> None:
+        end_preview()
+
+    @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int",
+                 "Flood-fill the region of one colour around (x, y) within a slice")
+    def fill(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int) -> None:
+        volume().fill(_axis(axis), index, u, v, _rgba(r, g, b, a))
+
+    @reg.command("rotate", "axis", "Rotate the volume 90 degrees about x, y or z (keys 5/6/7)",
+                 completer=lambda p: [a for a in AXES if a.startswith(p)])
+    def rotate(axis: str) -> None:
+        volume().rotate(_axis(axis))
+        view.index = min(view.index, volume().depth(view.axis) - 1)
+
+    @reg.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)")
+    def smooth() -> None:
+        volume().smooth()
+
+    @reg.command("undo", "", "Undo the last edit of the volume")
+    def undo() -> None:
+        end_preview()
+        if not volume().undo():
+            raise CommandError("nothing to undo")
+
+    @reg.command("redo", "", "Redo the last undone edit of the volume")
+    def redo() -> None:
+        if not volume().redo():
+            raise CommandError("nothing to redo")
+
+    @reg.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour")
+    def pick(x: int, y: int, z: int) -> None:
+        view.brush = volume().pick(x, y, z)
+        console.print(f"brush colour {' '.join(map(str, view.brush))}")
+
+    @reg.command("brush.color", "r:int g:int b:int a:int", "Set the brush colour (a = 0 erases)")
+    def brush_color(r: int, g: int, b: int, a: int) -> None:
+        view.brush = _rgba(r, g, b, a)
+
+    @reg.command("slice", "axis index:int", "Edit this slice in the painter")
+    def slice_(axis: str, index: int) -> None:
+        depth = volume().depth(_axis(axis))
+        if not 0 <= index < depth:
+            raise CommandError(f"slice {index} is outside 0..{depth - 1} along {axis}")
+        view.axis, view.index = axis, index
+
+    @reg.command("slice.step", "delta:int", "Move to a neighbouring slice, clamped (keys q/e)")
+    def slice_step(delta: int) -> None:
+        view.index = min(max(0, view.index + delta), volume().depth(view.axis) - 1)
+
+    @reg.command("slice.highlight", "[axis] [index:int]", "Highlight a slice in the 3D view (the slice picker)",
+                 recorded=False)
+    def slice_highlight(axis: str | None = None, index: int | None = None) -> None:
+        view.highlight = None if axis is None or index is None else (_axis(axis), index)
+
+    @reg.command("orbit", "yaw:float pitch:float [distance:float]", "Place the 3D view's camera (left drag; w/s)")
+    def orbit(yaw: float, pitch: float, distance: float | None = None) -> None:
+        cam = view.camera
+        view.camera = OrbitCamera(yaw % 360.0, pitch, cam.distance if distance is None else distance, cam.fov)
+
+    @reg.command("orbit.step", "dyaw:float dpitch:float [ddistance:float]", "Turn the 3D view's camera by steps")
+    def orbit_step(dyaw: float, dpitch: float, ddistance: float = 0.0) -> None:
+        cam = view.camera
+        pitch = min(max(cam.pitch + dpitch, -85.0), 85.0)
+        distance = min(max(cam.distance + ddistance, 1.0), 20.0)
+        orbit(cam.yaw + dyaw, pitch, distance)
+
+    @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)")
+    def background(r: int, g: int, b: int) -> None:
+        view.background = _rgba(r, g, b, 255)[:3]

@@ -1,0 +1,427 @@
+"""Volume files: Tex3Dtrace's R3, numbered image series, .npy, TIFF stacks and NRRD.
+
+A volume is a C-contiguous uint8 array (depth, height, width, 4): z, y, x order, RGBA, every side 1..4096.
+Readers validate the whole file and return a fresh array or raise FormatError (a ValueError whose message names
+the file); the voxel size is checked against `max_bytes` before any voxel data is allocated or read. Writers go
+through app.io.atomic, so a failed save never replaces a good file with a half-written one.
+
+Greyscale arrays (.npy, TIFF, NRRD) are densities: grey goes into R, G and B and alpha is 255 where the voxel is
+non-zero, 0 elsewhere, so empty space stays clear. Greyscale *images* in a series are pictures: they get alpha 255
+unless the image itself says which pixels are transparent.
+"""
+from __future__ import annotations
+
+import bz2
+import io
+import logging
+import math
+import os
+import re
+import struct
+import zlib
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import BinaryIO
+
+import nrrd
+import numpy as np
+import tifffile
+from PIL import Image, UnidentifiedImageError
+
+from app.io.atomic import write_bytes
+
+MAX_SIDE = 4096
+DEFAULT_MAX_BYTES = 2 * 2**30
+
+PathLike = str | os.PathLike
+
+
+class FormatError(ValueError):
+    """A volume file that cannot be read or written; the message names the file and says what is wrong."""
+
+
+# --- shared checks ---------------------------------------------------------------------------------------------
+
+
+def _open(path: PathLike) -> BinaryIO:
+    try:
+        return open(path, "rb")
+    except OSError as exc:
+        raise FormatError(f"cannot read {path}: {exc.strerror or exc}") from None
+
+
+@contextmanager
+def _library_errors(path: PathLike, what: str) -> Iterator[None]:
+    """Decoders raise anything (struct.error, KeyError, OSError...) on a malformed file; the editor sees FormatError."""
+    try:
+        yield
+    except FormatError:
+        raise
+    except Exception as exc:
+        raise FormatError(f"{path} is not a valid {what}: {exc or type(exc).__name__}") from exc
+
+
+def _check_shape(path: PathLike, shape: tuple[int, ...], max_bytes: float = math.inf) -> None:
+    """shape is (depth, height, width); the RGBA volume it becomes must fit max_bytes."""
+    d, h, w = (int(n) for n in shape)
+    size = f"{w}x{h}x{d}"
+    if min(d, h, w) < 1:
+        raise FormatError(f"{path}: volume size {size} (width x height x depth) has an empty side")
+    if max(d, h, w) > MAX_SIDE:
+        raise FormatError(f"{path}: volume size {size} exceeds {MAX_SIDE} voxels a side")
+    if d * h * w * 4 > max_bytes:
+        raise FormatError(f"{path}: a {size} volume needs {d * h * w * 4} bytes, over the size limit of {max_bytes} bytes")
+
+
+def _check_array(path: PathLike, shape: tuple[int, ...], dtype: np.dtype, max_bytes: int) -> None:
+    """The array layouts .npy, TIFF and NRRD share: (d, h, w) grey, (d, h, w, 3) RGB or (d, h, w, 4) RGBA, uint8."""
+    if dtype != np.uint8:
+        raise FormatError(f"{path}: voxels are {dtype}; Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first")
+    if not (len(shape) == 3 or len(shape) == 4 and shape[3] in (3, 4)):
+        raise FormatError(
+            f"{path}: array shape {tuple(shape)} is not a volume; expected (depth, height, width) greyscale "
+            "or (depth, height, width, 3 or 4) RGB/RGBA"
+        )
+    _check_shape(path, shape[:3], max_bytes)
+
+
+def _to_rgba(array: np.ndarray) -> np.ndarray:
+    if array.ndim == 4 and array.shape[3] == 4:
+        return np.ascontiguousarray(array)
+    rgba = np.empty(array.shape[:3] + (4,), np.uint8)
+    if array.ndim == 3:
+        rgba[..., :3] = array[..., None]
+        rgba[..., 3] = np.where(array > 0, 255, 0)
+    else:
+        rgba[..., :3] = array
+        rgba[..., 3] = 255
+    return rgba
+
+
+def _check_length(path: PathLike, expected: int, found: int) -> None:
+    if found < expected:
+        raise FormatError(f"{path} is truncated: expected {expected} bytes of voxel data, found {found}")
+    if found > expected:
+        raise FormatError(f"{path} has trailing data: expected {expected} bytes of voxel data, found {found}")
+
+
+def _read_exact(path: PathLike, f: BinaryIO, n: int) -> bytearray:
+    """Exactly the n bytes left in f; a short or long file is refused before the buffer is allocated."""
+    _check_length(path, n, os.fstat(f.fileno()).st_size - f.tell())
+    data = bytearray(n)
+    got = f.readinto(data)
+    _check_length(path, n, got + len(f.read(1)))  # the file changed since fstat
+    return data
+
+
+def _check_volume(path: PathLike, data: np.ndarray) -> None:
+    if not isinstance(data, np.ndarray) or data.dtype != np.uint8 or data.ndim != 4 or data.shape[3] != 4:
+        what = f"{data.dtype} array of shape {data.shape}" if isinstance(data, np.ndarray) else type(data).__name__
+        raise FormatError(f"cannot write {path}: a volume is a (depth, height, width, 4) uint8 array, not a {what}")
+    _check_shape(path, data.shape[:3])
+
+
+# --- R3 --------------------------------------------------------------------------------------------------------
+
+# Tex3Dtrace's raw volume: b"R3", uint16 width, height, depth (little-endian), then the voxels in z, y, x order.
+# The original calls them "4-byte colours"; Shadelab reads and writes them as R, G, B, A bytes.
+_R3_HEADER = struct.Struct("<2sHHH")
+
+
+def _read_r3(path: PathLike, max_bytes: int) -> np.ndarray:
+    with _open(path) as f:
+        header = f.read(_R3_HEADER.size)
+        if header[:2] != b"R3":
+            raise FormatError(f"{path} is not an R3 volume: it does not start with 'R3'")
+        if len(header) < _R3_HEADER.size:
+            raise FormatError(f"{path}: the R3 header is truncated ({len(header)} of {_R3_HEADER.size} bytes)")
+        _, w, h, d = _R3_HEADER.unpack(header)
+        _check_shape(path, (d, h, w), max_bytes)
+        data = _read_exact(path, f, d * h * w * 4)
+    return np.frombuffer(data, np.uint8).reshape(d, h, w, 4)
+
+
+def _write_r3(path: PathLike, data: np.ndarray) -> None:
+    d, h, w, _ = data.shape
+    write_bytes(path, _R3_HEADER.pack(b"R3", w, h, d) + data.tobytes())
+
+
+# --- .npy ------------------------------------------------------------------------------------------------------
+
+
+def _read_npy(path: PathLike, max_bytes: int) -> np.ndarray:
+    with _open(path) as f, _library_errors(path, ".npy file"):
+        version = np.lib.format.read_magic(f)
+        if version == (1, 0):
+            shape, _, dtype = np.lib.format.read_array_header_1_0(f)
+        elif version == (2, 0):
+            shape, _, dtype = np.lib.format.read_array_header_2_0(f)
+        else:  # 3.0 only exists for structured dtypes with unicode field names, which are no volume anyway
+            raise FormatError(f"{path}: unsupported .npy version {version[0]}.{version[1]}")
+        _check_array(path, shape, dtype, max_bytes)
+        f.seek(0)
+        array = np.load(f, allow_pickle=False)
+    return _to_rgba(array)
+
+
+def _write_npy(path: PathLike, data: np.ndarray) -> None:
+    buffer = io.BytesIO()
+    np.save(buffer, data, allow_pickle=False)
+    write_bytes(path, buffer.getvalue())
+
+
+# --- TIFF ------------------------------------------------------------------------------------------------------
+
+
+class _LogRecords(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
+    """Pages are z slices. 16-bit and float TIFFs are refused rather than scaled: the right mapping is the user's call.
+
+    tifffile only logs a broken page chain and returns the pages before it, so anything it logs is an error here:
+    a damaged file must not load as a thinner volume.
+    """
+    log = _LogRecords()
+    logger = tifffile.logger()
+    logger.addHandler(log)
+    try:
+        with _open(path) as f, _library_errors(path, "TIFF file"), tifffile.TiffFile(f) as tif:
+            if not tif.series:
+                raise FormatError(f"{path} is not a valid TIFF file: it holds no images")
+            if len(tif.series) != 1:
+                raise FormatError(
+                    f"{path} holds {len(tif.series)} image series (pages of different sizes or types), not one stack"
+                )
+            series = tif.series[0]
+            axes, shape = series.axes, series.shape
+            if "S" in axes:  # samples (colour channels): last when interleaved, before YX when stored planar
+                s = axes.index("S")
+                axes, shape, samples = axes[:s] + axes[s + 1 :], shape[:s] + shape[s + 1 :], shape[s : s + 1]
+            else:
+                samples = ()
+            # Every axis before YX is "pages" (ImageJ may call them Z, C, T, Q...); two of them would be a hyperstack.
+            if not axes.endswith("YX") or sum(n > 1 for n in shape[:-2]) > 1:
+                raise FormatError(f"{path}: TIFF layout {series.axes} {series.shape} is not a single stack of slices")
+            volume_shape = (math.prod(shape[:-2]), *shape[-2:], *samples)
+            _check_array(path, volume_shape, series.dtype, max_bytes)
+            photometric = series.keyframe.photometric
+            if photometric not in (tifffile.PHOTOMETRIC.MINISBLACK, tifffile.PHOTOMETRIC.RGB):
+                raise FormatError(f"{path}: TIFF colour model {photometric.name} is not supported (greyscale or RGB/RGBA)")
+            array = series.asarray()
+    finally:
+        logger.removeHandler(log)
+    if log.messages:
+        raise FormatError(f"{path} is a damaged TIFF file: {log.messages[0]}")
+    if "S" in series.axes:
+        array = np.moveaxis(array, series.axes.index("S"), -1)
+    return _to_rgba(array.reshape(volume_shape))
+
+
+def _write_tiff(path: PathLike, data: np.ndarray) -> None:
+    buffer = io.BytesIO()
+    tifffile.imwrite(buffer, data, photometric="rgb", extrasamples=["unassalpha"])  # straight (not premultiplied) alpha
+    write_bytes(path, buffer.getvalue())
+
+
+# --- NRRD ------------------------------------------------------------------------------------------------------
+
+_NRRD_UINT8 = ("uchar", "unsigned char", "uint8", "uint8_t")
+_NRRD_ENCODINGS = ("raw", "gzip", "gz", "bzip2", "bz2")
+_NRRD_MAX_HEADER = 1 << 16
+
+
+def _nrrd_header_lines(path: PathLike, f: BinaryIO) -> list[bytes]:
+    """The header up to its blank line, read with a bound: pynrrd would slurp a binary file without newlines whole."""
+    lines: list[bytes] = []
+    while True:
+        line = f.readline(_NRRD_MAX_HEADER)
+        if not lines and not line.startswith(b"NRRD"):
+            raise FormatError(f"{path} is not a NRRD file: it does not start with 'NRRD'")
+        if not line.endswith(b"\n") or f.tell() > _NRRD_MAX_HEADER:
+            raise FormatError(f"{path}: the NRRD header is truncated or longer than {_NRRD_MAX_HEADER} bytes")
+        lines.append(line)
+        if not line.strip():
+            return lines
+
+
+def _nrrd_inflate(path: PathLike, f: BinaryIO, encoding: str, n: int) -> bytearray:
+    """Decompress at most n + 1 bytes: a stream that inflates beyond its header's sizes is refused, not unpacked."""
+    inflater = bz2.BZ2Decompressor() if encoding.startswith("bz") else zlib.decompressobj(zlib.MAX_WBITS | 32)
+    data = bytearray()
+    with _library_errors(path, f"NRRD file ({encoding} data)"):
+        while not inflater.eof and len(data) <= n and (chunk := f.read(1 << 20)):
+            data += inflater.decompress(chunk, n + 1 - len(data))
+    if len(data) > n or inflater.unused_data or f.read(1):
+        raise FormatError(f"{path} has trailing data: more than the {n} bytes of voxel data its sizes describe")
+    if not inflater.eof or len(data) < n:
+        raise FormatError(f"{path} is truncated: expected {n} bytes of voxel data, {encoding} data holds {len(data)}")
+    return data
+
+
+def _read_nrrd(path: PathLike, max_bytes: int) -> np.ndarray:
+    """Attached raw, gzip or bzip2 data; pynrrd parses the header, the payload is read here with bounds."""
+    with _open(path) as f:
+        lines = _nrrd_header_lines(path, f)
+        with _library_errors(path, "NRRD header"):
+            header = nrrd.read_header(lines)
+        if "data file" in header or "datafile" in header:
+            raise FormatError(f"{path}: detached NRRD data (a 'data file' field) is not supported")
+        if any(header.get(field, 0) != 0 for field in ("line skip", "lineskip", "byte skip", "byteskip")):
+            raise FormatError(f"{path}: NRRD line/byte skips are not supported")
+        if header.get("type") not in _NRRD_UINT8:
+            raise FormatError(
+                f"{path}: voxels are {header.get('type')}; Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first"
+            )
+        encoding = header.get("encoding")
+        if encoding not in _NRRD_ENCODINGS:
+            raise FormatError(f"{path}: NRRD encoding {encoding!r} is not supported ({', '.join(_NRRD_ENCODINGS)})")
+        sizes = header.get("sizes")
+        if sizes is None or header.get("dimension") != len(sizes):
+            raise FormatError(f"{path}: the NRRD header's dimension and sizes disagree or are missing")
+        # NRRD lists sizes fastest axis first: "sizes: 4 w h d" for a colour volume, components first. Reversed,
+        # that is numpy's C order (d, h, w, 4), what pynrrd's index_order='C' returns; 'F' would give (4, w, h, d).
+        shape = tuple(int(n) for n in reversed(sizes))
+        _check_array(path, shape, np.dtype(np.uint8), max_bytes)
+        n = math.prod(shape)
+        data = _read_exact(path, f, n) if encoding == "raw" else _nrrd_inflate(path, f, encoding, n)
+    return _to_rgba(np.frombuffer(data, np.uint8).reshape(shape))
+
+
+def _write_nrrd(path: PathLike, data: np.ndarray) -> None:
+    buffer = io.BytesIO()
+    header = {"encoding": "gzip", "kinds": ["RGBA-color", "domain", "domain", "domain"]}
+    nrrd.write(buffer, data, header, compression_level=6, index_order="C")  # C: sizes come out as 4 w h d
+    write_bytes(path, buffer.getvalue())
+
+
+# --- numbered image series -------------------------------------------------------------------------------------
+
+_SLICE_NUMBER = re.compile(r"%(0\d+)?[id]")
+_IMAGE_FORMATS = {".png": "PNG", ".bmp": "BMP", ".jpg": "JPEG", ".jpeg": "JPEG", ".gif": "GIF", ".tga": "TGA"}
+_PIL_FORMATS = ("BMP", "PNG", "JPEG", "GIF", "TGA")
+_NO_ALPHA = ("JPEG", "BMP")  # Pillow writes BMP alpha but reads it back as RGB, as most BMP readers do
+
+
+def _slice_paths(pattern: PathLike, action: str) -> Callable[[int], Path]:
+    """slice_%i.png, slice_%d.png or slice_%03i.png -> the path of slice z; only the file name may hold the number."""
+    path = Path(pattern)
+    matches = list(_SLICE_NUMBER.finditer(path.name))
+    if len(matches) != 1:
+        raise FormatError(
+            f"cannot {action} {pattern}: image volumes are numbered series, put one %i in the file name (e.g. slice_%i.png)"
+        )
+    head, tail, width = path.name[: matches[0].start()], path.name[matches[0].end() :], int(matches[0][1] or 0)
+    return lambda z: path.with_name(f"{head}{str(z).zfill(width)}{tail}")
+
+
+def _open_image(path: Path, f: BinaryIO) -> Image.Image:
+    try:
+        return Image.open(f, formats=_PIL_FORMATS)
+    except UnidentifiedImageError:  # its message shows the file object's repr, not a name
+        raise FormatError(f"{path} is not a {', '.join(_PIL_FORMATS[:-1])} or {_PIL_FORMATS[-1]} image") from None
+
+
+def _read_series(pattern: PathLike, max_bytes: int) -> np.ndarray:
+    """Slices numbered from 0 up to the first missing number; each image is one z slice, its top row y = 0.
+
+    Any of BMP, PNG, JPEG, GIF (first frame) and TGA is read whatever the extension; 16-bit and float images are refused.
+    """
+    slice_path = _slice_paths(pattern, "read")
+    depth = 0
+    while depth <= MAX_SIDE and slice_path(depth).is_file():  # one past the limit, so _check_shape says why
+        depth += 1
+    if depth == 0:
+        raise FormatError(f"cannot read {pattern}: slice 0 ({slice_path(0)}): No such file or directory")
+    volume = None
+    for z in range(depth):
+        path = slice_path(z)
+        with _open(path) as f, _library_errors(path, "image"), _open_image(path, f) as image:
+            if image.mode.startswith(("I", "F")):
+                raise FormatError(f"{path}: {image.mode} images are not supported; save the slices as 8-bit images")
+            if volume is None:
+                _check_shape(pattern, (depth, image.height, image.width), max_bytes)
+                volume = np.empty((depth, image.height, image.width, 4), np.uint8)
+            elif image.size != volume.shape[2:0:-1]:
+                raise FormatError(
+                    f"{path}: slice is {image.width}x{image.height}, "
+                    f"but slice 0 ({slice_path(0)}) is {volume.shape[2]}x{volume.shape[1]}"
+                )
+            volume[z] = np.asarray(image.convert("RGBA"))
+    return volume
+
+
+def _write_series(pattern: PathLike, data: np.ndarray) -> None:
+    """One file per z slice, in the format of the pattern's extension, each written atomically.
+
+    JPEG is lossy and, like BMP, keeps no alpha (it reads back as 255); GIF keeps at most 256 colours and on/off
+    transparency. Higher-numbered slices left over from a deeper volume are deleted: they would read back as part of
+    this one.
+    """
+    slice_path = _slice_paths(pattern, "write")
+    image_format = _IMAGE_FORMATS[Path(pattern).suffix.lower()]
+    encoded = []
+    for rgba in data:  # encode every slice before the first file changes
+        image = Image.fromarray(rgba)
+        buffer = io.BytesIO()
+        if image_format in _NO_ALPHA:
+            image = image.convert("RGB")
+        # Full-resolution chroma: 4:2:0 would smear colour across neighbouring voxels.
+        options = {"quality": 95, "subsampling": 0} if image_format == "JPEG" else {}
+        image.save(buffer, image_format, **options)
+        encoded.append(buffer.getvalue())
+    for z, blob in enumerate(encoded):
+        write_bytes(slice_path(z), blob)
+    z = len(encoded)
+    while slice_path(z).is_file():
+        slice_path(z).unlink()
+        z += 1
+
+
+# --- dispatch --------------------------------------------------------------------------------------------------
+
+_READERS: dict[str, Callable[[PathLike, int], np.ndarray]] = {
+    ".r3": _read_r3, ".raw": _read_r3, ".npy": _read_npy, ".tif": _read_tiff, ".tiff": _read_tiff,
+    ".nrrd": _read_nrrd, **dict.fromkeys(_IMAGE_FORMATS, _read_series),
+}
+_WRITERS: dict[str, Callable[[PathLike, np.ndarray], None]] = {
+    ".r3": _write_r3, ".raw": _write_r3, ".npy": _write_npy, ".tif": _write_tiff, ".tiff": _write_tiff,
+    ".nrrd": _write_nrrd, **dict.fromkeys(_IMAGE_FORMATS, _write_series),
+}
+
+# Image extensions only as numbered series: a path with %i (or %d, %03i...) in its file name.
+SUPPORTED: tuple[str, ...] = tuple(_READERS)
+
+
+def _unsupported(action: str, path: PathLike) -> FormatError:
+    suffix = Path(path).suffix or "(none)"
+    return FormatError(
+        f"cannot {action} {path}: unsupported file type {suffix}; supported: {', '.join(SUPPORTED)} "
+        "(image types as numbered series such as slice_%i.png)"
+    )
+
+
+def read_volume(path: PathLike, max_bytes: int = DEFAULT_MAX_BYTES) -> np.ndarray:
+    """The (depth, height, width, 4) uint8 volume in path, chosen by extension; FormatError for anything wrong."""
+    reader = _READERS.get(Path(path).suffix.lower())
+    if reader is None:
+        raise _unsupported("read", path)
+    return reader(path, max_bytes)
+
+
+def write_volume(path: PathLike, data: np.ndarray) -> None:
+    writer = _WRITERS.get(Path(path).suffix.lower())
+    if writer is None:
+        raise _unsupported("write", path)
+    _check_volume(path, data)
+    try:
+        writer(path, np.ascontiguousarray(data))
+    except OSError as exc:
+        raise FormatError(f"cannot write {exc.filename or path}: {exc.strerror or exc}") from exc

@@ -1,0 +1,59 @@
+"""An orbit camera around the origin: yaw and pitch in degrees, a distance, a vertical field of view."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+PITCH_LIMIT = 89.0  # straight up or down would make "up" undefined
+
+
+@dataclass
+class OrbitCamera:
+    yaw: float = 35.0
+    pitch: float = 25.0
+    distance: float = 4.0
+    fov: float = 40.0  # vertical, degrees
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (self.yaw, self.pitch, self.distance, self.fov)):
+            raise ValueError("camera values must be finite")
+        if not 0.5 <= self.distance <= 100:
+            raise ValueError(f"distance must be within 0.5..100, got {self.distance:g}")
+        if not abs(self.pitch) <= PITCH_LIMIT:
+            raise ValueError(f"pitch must be within -{PITCH_LIMIT:g}..{PITCH_LIMIT:g}, got {self.pitch:g}")
+
+    def position(self) -> np.ndarray:
+        yaw, pitch = math.radians(self.yaw), math.radians(self.pitch)
+        return self.distance * np.array([math.cos(pitch) * math.sin(yaw), math.sin(pitch),
+                                         math.cos(pitch) * math.cos(yaw)])
+
+    def view(self) -> np.ndarray:
+        """World -> camera (4x4, row-major numpy), looking at the origin with +y up."""
+        eye = self.position()
+        forward = -eye / np.linalg.norm(eye)
+        right = np.cross(forward, [0.0, 1.0, 0.0])
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        m = np.identity(4)
+        m[0, :3], m[1, :3], m[2, :3] = right, up, -forward
+        m[:3, 3] = -m[:3, :3] @ eye
+        return m
+
+    def projection(self, aspect: float, near: float = 0.05, far: float = 200.0) -> np.ndarray:
+        f = 1.0 / math.tan(math.radians(self.fov) / 2)
+        m = np.zeros((4, 4))
+        m[0, 0], m[1, 1] = f / aspect, f
+        m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
+        m[3, 2] = -1.0
+        return m
+
+    def ray(self, px: float, py: float, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+        """World-space origin and unit direction through pixel (px, py), origin top-left."""
+        inv = np.linalg.inv(self.projection(width / max(height, 1)) @ self.view())
+        ndc = np.array([2 * px / width - 1, 1 - 2 * py / height, 1.0, 1.0])
+        far = inv @ ndc
+        origin = self.position()
+        d = far[:3] / far[3] - origin
+        return origin, d / np.linalg.norm(d)

@@ -1,0 +1,26 @@
+"""What the volume workspace shows besides the voxels: the camera, background, edited and highlighted slice."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from app.model.camera3d import OrbitCamera
+
+
+@dataclass
+class VolumeView:
+    camera: OrbitCamera = field(default_factory=OrbitCamera)
+    background: tuple[int, int, int] = (24, 26, 34)
+    axis: str = "z"               # the slice the painter edits
+    index: int = 0
+    highlight: tuple[str, int] | None = None  # the slice picker's hovered slice
+    brush: tuple[int, int, int, int] = (255, 140, 40, 255)  # the painter's colour
+
+    def key(self) -> tuple:
+        c = self.camera
+        return (c.yaw, c.pitch, c.distance, self.background, self.axis, self.index, self.highlight, self.brush)
+
+
+def box_extents(size: tuple[int, int, int]) -> tuple[float, float, float]:
+    """Half extents of the volume's box: the longest side spans [-1, 1], the others in proportion."""
+    longest = max(size)
+    return tuple(s / longest for s in size)

@@ -1,0 +1,44 @@
+"""The slice picker (seed key v): choose an axis, hover the 3D view to highlight a slice, click to
+edit it; or type the index."""
+from __future__ import annotations
+
+from PySide6.QtWidgets import QComboBox, QDialog, QDialogButtonBox, QFormLayout, QLabel, QSpinBox
+
+from app.model.volume import AXES
+
+
+class SlicePicker(QDialog):
+    def __init__(self, editor, tool, run, parent=None) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("Slice picker")
+        self.editor, self.tool, self.run = editor, tool, run
+        self.axis = QComboBox()
+        self.axis.addItems(AXES)
+        self.axis.setCurrentText(editor.volume_view.axis)
+        self.index = QSpinBox()
+        buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel)
+        buttons.accepted.connect(lambda: self.pick(self.axis.currentText(), self.index.value()))
+        buttons.rejected.connect(self.reject)
+        form = QFormLayout(self)
+        form.addRow(QLabel("Hover the 3D view to highlight a slice; click it to edit it."))
+        form.addRow("axis", self.axis)
+        form.addRow("slice", self.index)
+        form.addRow(buttons)
+        self.axis.currentTextChanged.connect(self._axis_changed)
+        self.index.valueChanged.connect(lambda i: self.run(f"slice.highlight {self.axis.currentText()} {i}"))
+        self.tool.on_pick = self.pick
+        self.finished.connect(self._closed)
+        self._axis_changed(self.axis.currentText())
+
+    def _axis_changed(self, axis: str) -> None:
+        self.tool.picker_axis = axis
+        self.index.setMaximum(self.editor.volume.depth(axis) - 1)
+        self.index.setValue(min(self.editor.volume_view.index, self.index.maximum()))
+
+    def pick(self, axis: str, index: int) -> None:
+        self.run(f"slice {axis} {index}")
+        self.accept()
+
+    def _closed(self) -> None:
+        self.tool.picker_axis = None
+        self.run("slice.highlight")

@@ -1,0 +1,60 @@
+"""Mouse of the volume workspace's 3D view: left drag orbits, the wheel moves closer; with the slice
+picker open, hovering highlights the slice under the cursor and a click edits it."""
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import Qt
+
+from app.model.volume_pick import first_hit
+
+DEGREES_PER_PIXEL = 0.4
+AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
+
+
+class VolumeTool:
+    def __init__(self, viewport, run) -> None:
+        self.viewport = viewport
+        self.run = run
+        self.picker_axis: str | None = None  # set while the slice picker is open
+        self.on_pick = lambda axis, index: None
+        self._drag = None
+
+    @property
+    def editor(self):
+        return self.viewport.editor
+
+    def slice_under(self, event) -> int | None:
+        vp, view = self.viewport, self.editor.volume_view
+        p = event.position()
+        origin, direction = view.camera.ray(p.x(), p.y(), vp.width(), vp.height())
+        hit = first_hit(self.editor.volume, np.asarray(origin), np.asarray(direction))
+        return None if hit is None else hit[AXIS_INDEX[self.picker_axis]]
+
+    def press(self, event) -> None:
+        if event.button() != Qt.MouseButton.LeftButton:
+            return
+        if self.picker_axis is not None:
+            index = self.slice_under(event)
+            if index is not None:
+                self.on_pick(self.picker_axis, index)
+            return
+        cam = self.editor.volume_view.camera
+        self._drag = (event.position(), cam.yaw, cam.pitch)
+
+    def move(self, event) -> None:
+        if self._drag is not None:
+            start, yaw, pitch = self._drag
+            d = event.position() - start
+            pitch = min(max(pitch + d.y() * DEGREES_PER_PIXEL, -85.0), 85.0)
+            self.run(f"orbit {yaw - d.x() * DEGREES_PER_PIXEL:.2f} {pitch:.2f}")
+        elif self.picker_axis is not None:
+            index = self.slice_under(event)
+            target = f"slice.highlight {self.picker_axis} {index}" if index is not None else "slice.highlight"
+            if (self.picker_axis, index) != self.editor.volume_view.highlight:
+                self.run(target)
+
+    def release(self, _event) -> None:
+        self._drag = None
+
+    def wheel(self, event) -> None:
+        self.run(f"orbit.step 0 0 {-0.25 * event.angleDelta().y() / 120:g}")

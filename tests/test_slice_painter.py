@@ -1,0 +1,102 @@
+"""The slice painter under Xvfb: mouse strokes become exact voxels and one recorded, undoable command."""
+import numpy as np
+import pytest
+from PySide6.QtCore import QPoint, Qt
+
+
+@pytest.fixture
+def painter(window, qtbot):
+    for line in ("workspace volume", "new 16 12 3", "slice z 1", "brush.color 255 0 0 255", "brush_size 1",
+                 "brush_round 1"):
+        assert window.run(line)
+    canvas = window.painter.canvas
+    canvas.update()
+    qtbot.waitUntil(lambda: canvas.zoom > 0)
+    return canvas
+
+
+def at(canvas, u, v):
+    return QPoint(int(canvas.offset.x() + (u + 0.5) * canvas.zoom), int(canvas.offset.y() + (v + 0.5) * canvas.zoom))
+
+
+def painted(volume):
+    z, y, x = np.nonzero(volume.data[..., 3])
+    return set(zip(x.tolist(), y.tolist(), z.tolist()))
+
+
+def test_a_drag_paints_exact_voxels_as_one_recorded_command(window, painter, qtbot, tmp_path):
+    volume = window.editor.volume
+    before = volume.digest()
+    window.run(f"record {tmp_path / 'paint'}")
+    qtbot.mousePress(painter, Qt.MouseButton.LeftButton, pos=at(painter, 2, 3))
+    qtbot.mouseMove(painter, at(painter, 9, 3))  # a fast jump: the stroke must have no gap
+    assert (5, 3, 1) in painted(volume)  # the 3D view's model already shows the stroke while the mouse is down
+    qtbot.mouseMove(painter, at(painter, 9, 8))
+    qtbot.mouseRelease(painter, Qt.MouseButton.LeftButton, pos=at(painter, 9, 8))
+    expected = {(u, 3, 1) for u in range(2, 10)} | {(9, v, 1) for v in range(3, 9)}
+    assert painted(volume) == expected
+    assert tuple(volume.data[1, 3, 2]) == (255, 0, 0, 255)
+    assert volume.undo_depth == 2  # `new`, then the stroke: the previews left nothing behind
+    window.run("stop")
+    lines = (tmp_path / "paint.demo").read_text().splitlines()
+    strokes = [line.split(" ", 1)[1] for line in lines[2:] if " stroke" in line]
+    assert strokes == ["stroke z 1 1 255 0 0 255 2 3 9 3 9 8"]
+    after = volume.digest()
+    window.run("undo")
+    assert volume.digest() == before
+    window.run("redo")
+    assert volume.digest() == after
+
+
+def test_the_recorded_stroke_replays_to_the_same_voxels(window, painter, qtbot, tmp_path):
+    from app.console.demo import VirtualClock
+    from app.editor import Editor
+
+    window.run(f"record {tmp_path / 'replay'}")
+    qtbot.mousePress(painter, Qt.MouseButton.LeftButton, pos=at(painter, 1, 1))
+    qtbot.mouseMove(painter, at(painter, 6, 5))
+    qtbot.mouseRelease(painter, Qt.MouseButton.LeftButton, pos=at(painter, 6, 5))
+    window.run("stop")
+    fresh = Editor(clock=VirtualClock())
+    assert fresh.execute(f"timedemo {tmp_path / 'replay'}")
+    assert fresh.volume.digest() == window.editor.volume.digest()
+
+
+def test_fill_and_eyedropper_tools(window, painter, qtbot):
+    volume = window.editor.volume
+    window.run("stroke z 1 1 0 255 0 255 0 5 15 5")  # a green line splits the slice
+    painter.tool = "fill"
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 3, 2))
+    assert (volume.data[1, :5, :, 0] == 255).all() and (volume.data[1, 6:, :, 3] == 0).all()
+    painter.tool = "brush"
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, stateKey=Qt.KeyboardModifier.AltModifier, pos=at(painter, 4, 5))
+    assert window.editor.volume_view.brush == (0, 255, 0, 255)
+
+
+def test_painter_keys(window, painter, qtbot):
+    painter.setFocus()
+    qtbot.keyClick(painter, Qt.Key.Key_E)
+    assert window.editor.volume_view.index == 2
+    qtbot.keyClick(painter, Qt.Key.Key_E)  # clamped at the last slice
+    assert window.editor.volume_view.index == 2
+    qtbot.keyClick(painter, Qt.Key.Key_Q)
+    assert window.editor.volume_view.index == 1
+    qtbot.keyClick(painter, Qt.Key.Key_3)
+    assert window.editor.console.registry.cvars["brush_size"].value == 3
+    assert window.painter.size.value() == 3
+    zoom = painter.zoom
+    qtbot.keyClick(painter, Qt.Key.Key_J)
+    assert painter.zoom > zoom
+    left = painter.offset.x()
+    qtbot.keyClick(painter, Qt.Key.Key_A)
+    assert painter.offset.x() > left
+
+
+def test_number_keys_in_the_3d_view_rotate_and_load_samples(window, painter, qtbot):
+    vp = window.viewport
+    vp.setFocus()
+    qtbot.keyClick(vp, Qt.Key.Key_5)
+    assert window.editor.volume.size == (16, 3, 12)  # about x: height and depth swap
+    qtbot.keyClick(vp, Qt.Key.Key_9)
+    assert window.editor.volume.size == (64, 64, 64)
+    assert tuple(window.editor.volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall

@@ -1,0 +1,658 @@
+"""The voxel volume model: slices, painting, undo and dirty boxes (pure numpy, no GL)."""
+import time
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import ndimage
+
+from app.model import volume as vm
+from app.model.volume import AXES, Box, Volume, VolumeError
+
+RED = (255, 0, 0, 255)
+BLUE = (0, 0, 255, 255)
+
+
+def coded(w: int, h: int, d: int) -> Volume:
+    """Each voxel holds its own (x, y, z) in r, g, b and alpha 255, so mix-ups show."""
+    z, y, x = np.meshgrid(np.arange(d), np.arange(h), np.arange(w), indexing="ij")
+    return Volume(np.stack([x, y, z, np.full_like(x, 255)], axis=-1).astype(np.uint8))
+
+
+def painted(vol: Volume, axis: str = "z", index: int = 0) -> np.ndarray:
+    """0/1 image of the slice's painted (non-transparent) voxels, rows = v."""
+    return (vol.slice(axis, index)[..., 3] > 0).astype(int)
+
+
+def stamp(size: int, round_brush: bool) -> np.ndarray:
+    vol = Volume.new(9, 9, 1)
+    vol.stroke("z", 0, size, RED, [(4, 4)], round_brush)
+    return painted(vol)[2:8, 2:8]
+
+
+# --- creation ---------------------------------------------------------------------------------
+
+
+def test_new_is_transparent_with_the_asked_size():
+    vol = Volume.new(5, 7, 3)
+    assert vol.size == (5, 7, 3)
+    assert vol.data.shape == (3, 7, 5, 4) and vol.data.dtype == np.uint8
+    assert vol.data.flags.c_contiguous and not vol.data.any()
+    assert vol.full_box() == Box(0, 0, 0, 5, 7, 3)
+    assert vol.version == 0 and vol.undo_depth == 0 and vol.redo_depth == 0
+
+
+@pytest.mark.parametrize("size", [(0, 4, 4), (4, -1, 4), (4, 4, 0), (4097, 1, 1), (2.5, 4, 4)])
+def test_new_refuses_bad_sides(size):
+    with pytest.raises(VolumeError):
+        Volume.new(*size)
+
+
+def test_new_refuses_huge_before_allocating(monkeypatch):
+    def no_alloc(*args, **kwargs):
+        raise AssertionError("allocated")
+
+    monkeypatch.setattr(vm.np, "zeros", no_alloc)
+    t = time.perf_counter()
+    with pytest.raises(VolumeError) as err:
+        Volume.new(4096, 4096, 4096)
+    assert time.perf_counter() - t < 0.5
+    msg = str(err.value)
+    assert "4096 x 4096 x 4096" in msg and "256.0 GiB" in msg
+    assert vm._fmt_bytes(vm.MAX_BYTES) in msg
+
+
+def test_byte_limit_is_exact_and_reported_in_mib(monkeypatch):
+    assert 0 < vm.MAX_BYTES <= 4 << 30
+    monkeypatch.setattr(vm, "MAX_BYTES", 1 << 20)
+    assert Volume.new(64, 64, 64).size == (64, 64, 64)  # exactly 1 MiB
+    with pytest.raises(VolumeError, match=r"65 x 64 x 64 .*1\.0 MiB of RGBA data, over the 1\.0 MiB limit"):
+        Volume.new(65, 64, 64)
+
+
+@pytest.mark.parametrize("data", [
+    np.zeros((2, 2, 2, 4), np.float32),
+    np.zeros((2, 2, 4), np.uint8),
+    np.zeros((2, 2, 2, 3), np.uint8),
+    np.zeros((0, 2, 2, 4), np.uint8),
+    [[[[0, 0, 0, 0]]]],
+])
+def test_constructor_validates(data):
+    with pytest.raises(VolumeError):
+        Volume(data)
+
+
+def test_constructor_copies_into_a_contiguous_array():
+    src = np.zeros((4, 3, 2, 4), np.uint8)
+    strided = np.zeros((4, 3, 4, 4), np.uint8)[:, :, ::2]
+    vol = Volume(src)
+    src[0, 0, 0] = 9
+    assert not vol.data.any()
+    assert Volume(strided).data.flags.c_contiguous
+
+
+# --- slices -----------------------------------------------------------------------------------
+
+
+def test_slices_on_a_non_cube():
+    vol = coded(5, 7, 3)
+    assert [vol.slice_size(a) for a in AXES] == [(7, 3), (5, 3), (5, 7)]
+    assert [vol.depth(a) for a in AXES] == [5, 7, 3]
+    assert vol.voxel_of("z", 2, 4, 6) == (4, 6, 2)
+    assert vol.voxel_of("y", 6, 4, 2) == (4, 6, 2)
+    assert vol.voxel_of("x", 4, 6, 2) == (4, 6, 2)
+    for axis in AXES:
+        us, vs = vol.slice_size(axis)
+        for index in range(vol.depth(axis)):
+            sl = vol.slice(axis, index)
+            assert sl.shape == (vs, us, 4)
+            for v in range(vs):
+                for u in range(us):
+                    xyz = vol.voxel_of(axis, index, u, v)
+                    assert tuple(sl[v, u]) == (*xyz, 255) == vol.pick(*xyz)
+
+
+def test_slice_is_read_only_and_bad_addresses_are_refused():
+    vol = coded(5, 7, 3)
+    with pytest.raises(ValueError):
+        vol.slice("x", 0)[0, 0] = 1
+    for call in (lambda: vol.slice("w", 0), lambda: vol.slice("x", 5), lambda: vol.slice("z", -1),
+                 lambda: vol.depth("Z"), lambda: vol.voxel_of("y", 0, 5, 0), lambda: vol.voxel_of("x", 0, 0, 3),
+                 lambda: vol.pick(5, 0, 0), lambda: vol.pick(0, 0, -1)):
+        with pytest.raises(VolumeError):
+            call()
+
+
+# --- set_voxel / pick -------------------------------------------------------------------------
+
+
+def test_set_voxel_pick_and_erase():
+    vol = Volume.new(5, 7, 3)
+    vol.set_voxel(4, 6, 2, (10, 20, 30, 40))
+    assert vol.pick(4, 6, 2) == (10, 20, 30, 40)
+    assert vol.data[2, 6, 4].tolist() == [10, 20, 30, 40]
+    assert vol.undo_depth == 1 and vol.version == 1
+    assert vol.changed_since(0) == Box(4, 6, 2, 5, 7, 3)
+    vol.set_voxel(4, 6, 2, (10, 20, 30, 40))  # same colour: no step
+    assert vol.undo_depth == 1 and vol.version == 1
+    vol.set_voxel(4, 6, 2, (99, 99, 99, 0))  # alpha 0 erases to all zeros
+    assert vol.pick(4, 6, 2) == (0, 0, 0, 0)
+    assert not vol.data.any()
+
+
+@pytest.mark.parametrize("args", [
+    (5, 0, 0, RED), (0, 7, 0, RED), (0, 0, -1, RED), (0, 0, 0, (256, 0, 0, 255)), (0, 0, 0, (1, 2, 3)),
+    (0, 0, 0, (1.5, 0, 0, 255)), (0, 0, 0, "red"), (0.5, 0, 0, RED),
+])
+def test_set_voxel_refusals_change_nothing(args):
+    vol = coded(5, 7, 3)
+    before = vol.digest()
+    with pytest.raises(VolumeError):
+        vol.set_voxel(*args)
+    assert vol.digest() == before and vol.version == 0 and vol.undo_depth == 0
+
+
+# --- stroke -----------------------------------------------------------------------------------
+
+
+def test_brush_masks():
+    square3 = np.zeros((6, 6), int)
+    square3[1:4, 1:4] = 1  # offsets -1..1 round the centre (4, 4)
+    assert (stamp(3, False) == square3).all()
+    # Size 3 round keeps the corners: they lie sqrt(2) < 1.5 from the centre.
+    assert (stamp(3, True) == square3).all()
+    square4 = np.zeros((6, 6), int)
+    square4[1:5, 1:5] = 1  # offsets -1..2
+    assert (stamp(4, False) == square4).all()
+    round4 = square4.copy()
+    round4[[1, 1, 4, 4], [1, 4, 1, 4]] = 0  # corners lie sqrt(4.5) > 2 from the centre (4.5, 4.5)
+    assert (stamp(4, True) == round4).all()
+    vol = Volume.new(9, 9, 1)
+    vol.stroke("z", 0, 5, RED, [(4, 4)])
+    assert painted(vol)[2:7, 2:7].tolist() == [[0, 1, 1, 1, 0]] + [[1] * 5] * 3 + [[0, 1, 1, 1, 0]]
+    assert painted(vol).sum() == 21
+    for size in (1, 2):
+        assert (stamp(size, True) == stamp(size, False)).all()
+    assert stamp(1, True).sum() == 1 and stamp(2, True)[2:4, 2:4].all() and stamp(2, True).sum() == 4
+
+
+def test_stroke_single_stamp_box_and_step():
+    vol = Volume.new(9, 9, 1)
+    box = vol.stroke("z", 0, 4, RED, [(4, 4)])
+    assert box == Box(3, 3, 0, 7, 7, 1)
+    assert vol.undo_depth == 1 and vol.version == 1 and vol.changed_since(0) == box
+    assert vol.pick(3, 4, 0) == RED and vol.pick(3, 3, 0) == (0, 0, 0, 0)
+
+
+def test_stroke_on_x_and_y_slices_maps_u_v():
+    vol = Volume.new(5, 7, 3)
+    assert vol.stroke("x", 4, 1, RED, [(6, 2)]) == Box(4, 6, 2, 5, 7, 3)
+    assert vol.pick(4, 6, 2) == RED
+    assert vol.stroke("y", 1, 1, BLUE, [(3, 0), (3, 2)]) == Box(3, 1, 0, 4, 2, 3)
+    assert [vol.pick(3, 1, z) for z in range(3)] == [BLUE] * 3
+    assert np.count_nonzero(vol.data[..., 3]) == 4
+
+
+def test_stroke_long_diagonal_is_gap_free_and_exact():
+    vol = Volume.new(32, 32, 2)
+    box = vol.stroke("z", 1, 1, RED, [(0, 0), (31, 31)])
+    assert box == Box(0, 0, 1, 32, 32, 2)
+    assert (painted(vol, "z", 1) == np.eye(32, dtype=int)).all()
+    vol = Volume.new(10, 4, 1)
+    vol.stroke("z", 0, 1, RED, [(0, 0), (9, 3)])
+    img = painted(vol)
+    assert (img.sum(axis=0) == 1).all()  # x-major: exactly one voxel per column
+    assert img.argmax(axis=0).tolist() == [0, 0, 1, 1, 1, 2, 2, 2, 3, 3]  # nearest to y = x / 3
+    _, n = ndimage.label(img, structure=np.ones((3, 3)))
+    assert n == 1
+
+
+def test_stroke_fast_jump_leaves_no_holes():
+    vol = Volume.new(40, 8, 1)
+    box = vol.stroke("z", 0, 3, RED, [(1, 3), (38, 3)], round_brush=False)
+    assert box == Box(0, 2, 0, 40, 5, 1)
+    expected = np.zeros((8, 40), int)
+    expected[2:5, :] = 1
+    assert (painted(vol) == expected).all()
+    assert vol.undo_depth == 1
+    vol = Volume.new(40, 40, 1)
+    vol.stroke("z", 0, 2, RED, [(2, 2), (37, 30), (5, 35)])
+    _, n = ndimage.label(painted(vol))  # 4-connected even: a size-2 brush overlaps on diagonal steps
+    assert n == 1
+
+
+def test_stroke_clips_at_the_borders():
+    vol = Volume.new(8, 6, 1)
+    assert vol.stroke("z", 0, 3, RED, [(0, 0)], round_brush=False) == Box(0, 0, 0, 2, 2, 1)
+    assert painted(vol).sum() == 4
+    vol = Volume.new(8, 6, 1)
+    box = vol.stroke("z", 0, 1, RED, [(-100, 2), (10**6, 2)])  # enters and leaves the slice
+    assert box == Box(0, 2, 0, 8, 3, 1)
+    assert painted(vol).sum() == 8 and painted(vol)[2].all()
+    # Size 4 reaches offsets -1..2 from its centre.
+    assert vol.stroke("z", 0, 4, BLUE, [(10, 5)], round_brush=False) is None
+    assert vol.stroke("z", 0, 4, BLUE, [(-3, 0)], round_brush=False) is None
+    assert vol.stroke("z", 0, 4, BLUE, [(8, 6)], round_brush=False) == Box(7, 5, 0, 8, 6, 1)
+    assert vol.stroke("z", 0, 4, BLUE, [(-2, -2)], round_brush=False) == Box(0, 0, 0, 1, 1, 1)
+    assert vol.stroke("z", 0, 4, RED, [(-2, -2)]) is None  # that cell is a corner the round brush drops
+
+
+def test_stroke_far_off_points_are_cheap():
+    vol = Volume.new(16, 16, 1)
+    t = time.perf_counter()
+    assert vol.stroke("z", 0, 8, RED, [(-10**7, -10**7), (10**7, -10**7 + 3)]) is None
+    box = vol.stroke("z", 0, 1, RED, [(-10**7, -10**7), (10**7, 10**7)])
+    assert time.perf_counter() - t < 1.0
+    assert box == Box(0, 0, 0, 16, 16, 1) and (painted(vol) == np.eye(16, dtype=int)).all()
+
+
+def test_noop_stroke_adds_no_step():
+    vol = Volume.new(8, 8, 2)
+    vol.stroke("z", 0, 3, RED, [(4, 4), (6, 4)])
+    depth, version, digest = vol.undo_depth, vol.version, vol.digest()
+    assert vol.stroke("z", 0, 3, RED, [(4, 4), (5, 4)]) is None  # already that colour
+    assert vol.stroke("z", 1, 3, RED, [(-9, -9)]) is None  # wholly outside
+    assert vol.stroke("z", 1, 3, RED, []) is None
+    assert vol.stroke("z", 1, 3, (5, 5, 5, 0), [(3, 3)]) is None  # erasing nothing
+    assert (vol.undo_depth, vol.version, vol.digest()) == (depth, version, digest)
+
+
+def test_stroke_returns_the_box_of_changed_voxels_only():
+    vol = Volume.new(10, 10, 1)
+    vol.stroke("z", 0, 3, RED, [(2, 2), (7, 2)], round_brush=False)  # rows 1..3, x 1..8
+    box = vol.stroke("z", 0, 5, RED, [(4, 2)], round_brush=False)  # rows 0..4, x 2..6: only rows 0 and 4 change
+    assert box == Box(2, 0, 0, 7, 5, 1)
+    vol.undo()
+    assert painted(vol)[[0, 4]].sum() == 0 and painted(vol).sum() == 24
+
+
+@pytest.mark.parametrize("args", [
+    ("w", 0, 1, RED, [(0, 0)]), ("z", 2, 1, RED, [(0, 0)]), ("z", 0, 0, RED, [(0, 0)]),
+    ("z", 0, 4097, RED, [(0, 0)]), ("z", 0, 1, (0, 0, 300, 255), [(0, 0)]), ("z", 0, 1, RED, [(0,)]),
+    ("z", 0, 1, RED, [(0, 0), (1.5, 0)]), ("z", 0, 1, RED, [(0, 10**9)]), ("z", 0, 1, RED, [5]),
+])
+def test_stroke_refusals_change_nothing(args):
+    vol = coded(4, 4, 2)
+    before = vol.digest()
+    with pytest.raises(VolumeError):
+        vol.stroke(*args)
+    assert vol.digest() == before and vol.undo_depth == 0 and vol.version == 0
+
+
+# --- fill -------------------------------------------------------------------------------------
+
+
+def test_fill_exact_region_stops_at_other_colours_and_is_4_connected():
+    wall = [(3, v) for v in range(6)] + [(0, 2), (1, 2), (2, 3)]
+    vol = Volume.new(7, 6, 3)
+    for u, v in wall:
+        vol.set_voxel(u, v, 1, BLUE)
+    base = vol.digest()
+    box = vol.fill("z", 1, 0, 0, RED)
+    img = vol.slice("z", 1)
+    region = np.zeros((6, 7), bool)
+    region[0:2, 0:3] = True
+    region[2, 2] = True
+    assert ((img == RED).all(-1) == region).all()
+    assert box == Box(0, 0, 1, 3, 3, 2)
+    # (0, 3)..(1, 3) touch the filled region only diagonally across (2, 3)/(1, 2): untouched.
+    assert vol.pick(0, 3, 1) == (0, 0, 0, 0) and vol.pick(0, 5, 1) == (0, 0, 0, 0)
+    assert not vol.data[0].any() and not vol.data[2].any()
+    assert vol.fill("z", 1, 1, 1, RED) is None and vol.undo_depth == len(wall) + 1
+    vol.undo()
+    assert vol.digest() == base
+
+
+def test_fill_replaces_an_exact_colour_and_erases():
+    vol = coded(4, 3, 2)  # every voxel a different colour
+    assert vol.fill("x", 2, 1, 1, RED) == Box(2, 1, 1, 3, 2, 2)
+    assert vol.pick(2, 1, 1) == RED and np.count_nonzero((vol.data == RED).all(-1)) == 1
+    vol = Volume.new(4, 3, 2)
+    assert vol.fill("y", 2, 0, 0, BLUE) == Box(0, 2, 0, 4, 3, 2)
+    assert (vol.data[:, 2] == BLUE).all() and not vol.data[:, :2].any()
+    assert vol.fill("y", 2, 3, 1, (1, 2, 3, 0)) == Box(0, 2, 0, 4, 3, 2)
+    assert not vol.data.any()
+
+
+def test_fill_refusals():
+    vol = Volume.new(4, 3, 2)
+    for args in (("z", 0, 4, 0, RED), ("z", 0, 0, -1, RED), ("q", 0, 0, 0, RED), ("z", 2, 0, 0, RED),
+                 ("z", 0, 0, 0, (0, 0, 0))):
+        with pytest.raises(VolumeError):
+            vol.fill(*args)
+    assert vol.version == 0 and vol.undo_depth == 0
+
+
+# --- smooth -----------------------------------------------------------------------------------
+
+
+def test_smooth_spreads_one_voxel_to_its_26_neighbours():
+    vol = Volume.new(5, 5, 5)
+    vol.set_voxel(2, 2, 2, (200, 14, 13, 255))
+    box = vol.smooth()
+    assert box == Box(1, 1, 1, 4, 4, 4)
+    expected = np.zeros((5, 5, 5, 4), np.uint8)
+    expected[1:4, 1:4, 1:4] = (7, 1, 0, 9)  # 200/27 = 7.4, 14/27 = 0.52, 13/27 = 0.48, 255/27 = 9.4
+    assert (vol.data == expected).all()
+
+
+def test_smooth_box_limits_writes_but_reads_outside():
+    vol = Volume.new(5, 5, 5)
+    vol.set_voxel(2, 2, 2, (27, 27, 27, 27))
+    box = vol.smooth(Box(3, 0, 0, 5, 5, 5))
+    assert box == Box(3, 1, 1, 4, 4, 4)
+    assert (vol.data[1:4, 1:4, 3] == 1).all() and vol.pick(2, 2, 2) == (27, 27, 27, 27)
+    assert np.count_nonzero(vol.data[..., 0]) == 10
+    assert vol.smooth(Box(-5, -5, -5, 0, 9, 9)) is None and vol.smooth(Box(9, 0, 0, 12, 5, 5)) is None
+
+
+def test_smooth_clamps_at_the_border_and_keeps_uniform_volumes():
+    vol = Volume.new(4, 4, 4)
+    vol.set_voxel(0, 0, 0, (243, 243, 243, 243))  # 9 * 27
+    vol.smooth()
+    assert vol.pick(0, 0, 0)[0] == 72  # counted 8 times by the clamped 3x3x3
+    assert vol.pick(1, 0, 0)[0] == 36 and vol.pick(1, 1, 0)[0] == 18 and vol.pick(1, 1, 1)[0] == 9
+    assert vol.pick(2, 0, 0)[0] == 0
+    uniform = Volume(np.full((3, 4, 5, 4), 77, np.uint8))
+    assert uniform.smooth() is None and uniform.undo_depth == 0
+
+
+def test_smooth_matches_a_float_reference():
+    rng = np.random.default_rng(3)
+    data = rng.integers(0, 256, (6, 7, 8, 4), dtype=np.uint8)
+    vol = Volume(data)
+    vol.smooth(Box(1, 2, 0, 7, 7, 4))
+    ref = ndimage.uniform_filter(data.astype(float), size=(3, 3, 3, 1), mode="nearest")
+    expected = data.copy()
+    expected[0:4, 2:7, 1:7] = np.floor(ref[0:4, 2:7, 1:7] + 0.5)
+    assert (vol.data == expected).all()
+
+
+# --- rotate -----------------------------------------------------------------------------------
+
+ROT = {"x": np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]]),
+       "y": np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0]]),
+       "z": np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]])}
+
+
+@pytest.mark.parametrize("axis", AXES)
+def test_rotate_moves_voxels_by_a_right_handed_quarter_turn(axis):
+    vol = coded(5, 7, 3)
+    old_size = np.array(vol.size)
+    vol.rotate(axis)
+    new_size = np.abs(ROT[axis]) @ old_size
+    assert vol.size == tuple(new_size)
+    assert vol.data.flags.c_contiguous
+    for x, y, z in [(0, 0, 0), (4, 1, 2), (1, 6, 0), (3, 5, 1)]:
+        centre = np.array([x, y, z]) + 0.5 - old_size / 2
+        nx, ny, nz = (ROT[axis] @ centre + new_size / 2 - 0.5).round().astype(int)
+        assert vol.pick(nx, ny, nz) == (x, y, z, 255)
+
+
+def test_rotate_examples_counter_clockwise_looking_down_the_axis():
+    vol = Volume.new(5, 7, 3)
+    vol.set_voxel(4, 0, 0, RED)  # on +x
+    vol.rotate("z")
+    assert vol.size == (7, 5, 3) and vol.pick(6, 4, 0) == RED  # x -> y
+    vol.rotate("x")
+    assert vol.size == (7, 3, 5) and vol.pick(6, 2, 4) == RED  # y -> z
+    vol.rotate("y")
+    assert vol.size == (5, 3, 7) and vol.pick(4, 2, 0) == RED  # z -> x
+
+
+@pytest.mark.parametrize("axis", AXES)
+def test_rotate_four_turns_identity_and_undo(axis):
+    vol = coded(5, 7, 3)
+    start = vol.digest()
+    for _ in range(4):
+        vol.rotate(axis)
+    assert vol.digest() == start and vol.undo_depth == 4
+    vol.rotate(axis, 4)
+    vol.rotate(axis, 0)
+    assert vol.undo_depth == 4 and vol.version == 4
+    vol.rotate(axis, -1)
+    three = coded(5, 7, 3)
+    three.rotate(axis, 3)
+    assert vol.digest() == three.digest()
+    assert vol.undo() and vol.digest() == start and vol.size == (5, 7, 3)
+    assert vol.redo() and vol.digest() == three.digest()
+
+
+def test_rotation_steps_store_no_voxels():
+    vol = Volume.new(4, 5, 6, max_undo_bytes=0)  # no voxel step fits
+    vol.set_voxel(1, 2, 3, RED)
+    vol.rotate("y", 1)
+    vol.rotate("x", 2)
+    assert vol.undo_depth == 2
+    assert vol.undo() and vol.undo() and not vol.undo()
+    assert vol.size == (4, 5, 6) and vol.pick(1, 2, 3) == RED
+
+
+def test_rotate_refusals():
+    vol = coded(2, 3, 4)
+    for args in (("w", 1), ("x", 1.0), ("z", "1")):
+        with pytest.raises(VolumeError):
+            vol.rotate(*args)
+    assert vol.version == 0
+
+
+# --- replace ----------------------------------------------------------------------------------
+
+
+def test_replace_is_one_undo_step_and_validates():
+    vol = coded(5, 7, 3)
+    start = vol.digest()
+    seen = vol.version
+    new = np.full((2, 3, 4, 4), 9, np.uint8)
+    vol.replace(new)
+    new[:] = 0
+    assert vol.size == (4, 3, 2) and vol.pick(0, 0, 0) == (9, 9, 9, 9)
+    assert vol.changed_since(seen) == Box(0, 0, 0, 4, 3, 2)
+    with pytest.raises(VolumeError):
+        vol.replace(np.zeros((2, 3, 4), np.uint8))
+    assert vol.size == (4, 3, 2) and vol.undo_depth == 1
+    assert vol.undo() and vol.digest() == start
+    assert vol.redo() and vol.size == (4, 3, 2)
+
+
+# --- undo / redo ------------------------------------------------------------------------------
+
+
+def test_150_steps_undo_to_the_start_and_redo_to_the_end():
+    vol = Volume.new(12, 10, 4)
+    digests = [vol.digest()]
+    rng = np.random.default_rng(7)
+    for i in range(150):
+        colour = tuple(int(c) for c in rng.integers(1, 256, 4))
+        if i % 3:
+            vol.set_voxel(i % 12, (i // 12) % 10, i % 4, colour)
+        else:
+            vol.stroke("z", i % 4, 1 + i % 5, colour, [(int(rng.integers(12)), int(rng.integers(10))),
+                                                       (int(rng.integers(12)), int(rng.integers(10)))])
+        digests.append(vol.digest())
+    assert vol.undo_depth == 150
+    for k in range(150, 0, -1):
+        assert vol.undo()
+        assert vol.digest() == digests[k - 1]
+    assert not vol.undo() and vol.digest() == digests[0] and vol.redo_depth == 150
+    version = vol.version
+    assert not vol.undo() and vol.version == version
+    for k in range(1, 151):
+        assert vol.redo() and vol.digest() == digests[k]
+    assert not vol.redo() and vol.undo_depth == 150
+
+
+def test_new_edit_clears_redo():
+    vol = Volume.new(4, 4, 1)
+    vol.set_voxel(0, 0, 0, RED)
+    vol.set_voxel(1, 0, 0, RED)
+    vol.undo()
+    assert vol.redo_depth == 1
+    vol.set_voxel(2, 0, 0, BLUE)
+    assert vol.redo_depth == 0 and not vol.redo()
+    assert vol.pick(1, 0, 0) == (0, 0, 0, 0) and vol.undo_depth == 2
+
+
+def test_history_caps_by_count():
+    vol = Volume.new(16, 1, 1, max_undo_steps=10)
+    assert Volume.new(1, 1, 1).max_undo_steps == 256 and Volume.new(1, 1, 1).max_undo_bytes == 512 << 20
+    for x in range(15):
+        vol.set_voxel(x, 0, 0, RED)
+    assert vol.undo_depth == 10
+    while vol.undo():
+        pass
+    assert painted(vol).tolist() == [[1] * 5 + [0] * 11]
+
+
+def test_history_caps_by_bytes():
+    vol = Volume.new(8, 8, 1, max_undo_bytes=100)
+    for v in range(6):
+        vol.stroke("z", 0, 1, RED, [(0, v), (7, v)])  # 8 voxels = 32 bytes a step
+    assert vol.undo_depth == 3
+    while vol.undo():
+        pass
+    assert painted(vol).sum(axis=1).tolist() == [8, 8, 8, 0, 0, 0, 0, 0]
+    vol.max_undo_bytes = 10
+    vol.stroke("z", 0, 1, BLUE, [(0, 7), (7, 7)])  # bigger than the whole cap: cannot be undone
+    assert vol.undo_depth == 0 and vol.redo_depth == 0
+
+
+# --- changed_since / digest -------------------------------------------------------------------
+
+
+def test_changed_since_unions_for_consumers_at_different_versions():
+    vol = Volume.new(10, 10, 10)
+    gpu = vol.version
+    assert vol.changed_since(gpu) is None
+    vol.set_voxel(1, 2, 3, RED)
+    dist = vol.version
+    vol.stroke("y", 5, 1, RED, [(7, 8)])
+    assert vol.changed_since(gpu) == Box(1, 2, 3, 8, 6, 9)
+    assert vol.changed_since(dist) == Box(7, 5, 8, 8, 6, 9)
+    gpu = vol.version
+    assert vol.changed_since(gpu) is None and vol.changed_since(gpu + 5) is None
+    vol.undo()  # undo marks its box too
+    assert vol.changed_since(gpu) == Box(7, 5, 8, 8, 6, 9)
+    assert vol.changed_since(dist) == Box(7, 5, 8, 8, 6, 9)
+    assert vol.changed_since(-1) == vol.full_box()
+
+
+def test_changed_since_is_the_full_box_after_a_reshape():
+    vol = Volume.new(4, 5, 6)
+    seen = vol.version
+    vol.set_voxel(0, 0, 0, RED)
+    vol.rotate("z")
+    after_rotate = vol.version
+    vol.set_voxel(1, 1, 1, RED)
+    assert vol.changed_since(seen) == Box(0, 0, 0, 5, 4, 6)
+    assert vol.changed_since(after_rotate) == Box(1, 1, 1, 2, 2, 2)
+    vol.undo()
+    vol.undo()
+    assert vol.changed_since(after_rotate) == Box(0, 0, 0, 4, 5, 6)
+    seen = vol.version
+    vol.replace(np.zeros((4, 5, 6, 4), np.uint8))  # same shape, every voxel may differ
+    assert vol.changed_since(seen) == vol.full_box()
+
+
+def test_changed_since_beyond_the_record_is_the_full_box():
+    vol = Volume.new(64, 64, 1)
+    vol.set_voxel(0, 0, 0, RED)
+    old = vol.version
+    for i in range(vm.CHANGE_RECORDS + 1):
+        vol.set_voxel(1 + i % 7, 1, 0, RED if i % 2 else BLUE)  # every call a change
+    assert vol.version == old + vm.CHANGE_RECORDS + 1
+    recent = vol.version - vm.CHANGE_RECORDS  # exactly as far back as the record reaches
+    assert vol.changed_since(old) == vol.full_box()
+    assert vol.changed_since(recent) == Box(1, 1, 0, 8, 2, 1)
+
+
+def test_digest_covers_size_and_voxels():
+    assert Volume.new(2, 1, 1).digest() != Volume.new(1, 2, 1).digest()
+    a, b = Volume.new(3, 3, 3), Volume.new(3, 3, 3)
+    assert a.digest() == b.digest() and len(a.digest()) == 16
+    b.set_voxel(2, 2, 2, (0, 0, 1, 1))
+    assert a.digest() != b.digest()
+
+
+def test_box_helpers():
+    a, b = Box(0, 1, 2, 3, 4, 5), Box(2, 0, 4, 6, 2, 9)
+    assert a.union(b) == Box(0, 0, 2, 6, 4, 9) and a.shape == (3, 3, 3)
+    assert a.slices() == (slice(2, 5), slice(1, 4), slice(0, 3))
+    empty = Box(1, 1, 1, 1, 5, 5)
+    assert empty.empty and not a.empty and a.union(empty) == a and empty.union(a) == a
+    assert a.intersect(b) == Box(2, 1, 4, 3, 2, 5) and a.intersect(Box(5, 5, 5, 6, 6, 6)).empty
+
+
+# --- random edit sequences --------------------------------------------------------------------
+
+colours = st.sampled_from([RED, BLUE, (0, 255, 0, 128), (9, 9, 9, 0)])
+axes = st.sampled_from(AXES)
+small = st.integers(0, 7)
+ops = st.one_of(
+    st.tuples(st.just("set"), small, small, small, colours),
+    st.tuples(st.just("stroke"), axes, small, st.integers(1, 4), colours,
+              st.lists(st.tuples(st.integers(-3, 9), st.integers(-3, 9)), min_size=1, max_size=4), st.booleans()),
+    st.tuples(st.just("fill"), axes, small, small, small, colours),
+    st.tuples(st.just("rotate"), axes, st.integers(-2, 5)),
+    st.tuples(st.just("smooth"), st.none() | st.tuples(small, small, small, small, small, small)),
+)
+
+
+def apply(vol: Volume, op: tuple) -> Box | None:
+    w, h, d = vol.size
+    kind = op[0]
+    if kind == "set":
+        vol.set_voxel(op[1] % w, op[2] % h, op[3] % d, op[4])
+        return None
+    if kind == "rotate":
+        vol.rotate(op[1], op[2])
+        return None
+    if kind == "smooth":
+        return vol.smooth(None if op[1] is None else Box(*op[1]))
+    axis, index = op[1], op[2] % vol.depth(op[1])
+    if kind == "stroke":
+        return vol.stroke(axis, index, op[3], op[4], op[5], op[6])
+    us, vs = vol.slice_size(axis)
+    return vol.fill(axis, index, op[3] % us, op[4] % vs, op[5])
+
+
+@settings(max_examples=60, deadline=None, database=None)
+@given(size=st.tuples(st.integers(1, 6), st.integers(1, 6), st.integers(1, 6)),
+       seed=st.integers(0, 2**32 - 1), edits=st.lists(ops, max_size=14))
+def test_random_edits_undo_and_redo_exactly(size, seed, edits):
+    w, h, d = size
+    rng = np.random.default_rng(seed)
+    data = rng.choice(np.array([RED, BLUE, (0, 0, 0, 0)], np.uint8), size=(d, h, w))  # fills find regions
+    vol = Volume(data)
+    start = vol.digest()
+    mirror, seen = vol.data.copy(), vol.version  # a GPU-upload consumer
+
+    def sync() -> None:
+        nonlocal mirror, seen
+        box = vol.changed_since(seen)
+        if mirror.shape != vol.data.shape:
+            assert box == vol.full_box()
+            mirror = vol.data.copy()
+        elif box is not None:
+            mirror[box.slices()] = vol.data[box.slices()]
+        seen = vol.version
+        assert (mirror == vol.data).all()
+
+    for op in edits:
+        version, before = vol.version, vol.data.copy()
+        box = apply(vol, op)
+        if box is not None:
+            assert vol.changed_since(version) == box and vol.version == version + 1
+            outside = np.ones(before.shape[:3], bool)
+            outside[box.slices()] = False
+            assert (vol.data[outside] == before[outside]).all()
+        sync()
+    end = vol.digest()
+    assert vol.undo_depth == vol.version
+    while vol.undo():
+        sync()
+    assert vol.digest() == start
+    while vol.redo():
+        sync()
+    assert vol.digest() == end
