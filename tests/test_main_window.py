@@ -124,7 +124,7 @@ def test_panel_slider_sends_a_command(window):
     assert inputs(window)[-1] == "] snow.level 3"
 
 
-@pytest.mark.parametrize("name", ["snowflake"])
-def test_bench_dock_shows_the_technique(window, name):
-    window.bench.show_technique(name)
-    assert window.bench.run_button.isEnabled()
+@pytest.mark.parametrize("workspace, technique", [("snowflake", "snowflake"), ("volume", "paint")])
+def test_bench_dock_shows_the_workspace_technique(window, workspace, technique):
+    window.run(f"workspace {workspace}")
+    assert window.bench.technique == technique and window.bench.run_button.isEnabled()

@@ -656,3 +656,19 @@ def test_random_edits_undo_and_redo_exactly(size, seed, edits):
     while vol.redo():
         sync()
     assert vol.digest() == end
+
+
+def test_group_since_undoes_and_redoes_a_batch_as_one():
+    vol = Volume.new(4, 4, 2)
+    vol.set_voxel(0, 0, 0, (1, 1, 1, 255))
+    start = vol.digest()
+    mark = vol.edits
+    for x in range(4):
+        vol.set_voxel(x, 1, 1, (9, 9, 9, 255))
+    vol.rotate("z")
+    end = vol.digest()
+    vol.group_since(mark)
+    assert vol.undo_depth == 2
+    assert vol.undo() and vol.digest() == start
+    assert vol.redo() and vol.digest() == end
+    assert vol.undo() and vol.undo() and not vol.undo()

@@ -52,6 +52,15 @@ def register(editor: "Editor") -> None:
     brush_round = reg.add_cvar(Cvar("brush_round", bool, True, "Round brush (0: square)", archive=True))
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
     preview = {"active": False}  # a stroke shown while the mouse is down; replaced by the real one
+    batch = {"mark": 0}
+
+    def on_batch(starting: bool) -> None:
+        if starting:
+            batch["mark"] = volume().edits
+        else:
+            volume().group_since(batch["mark"])
+
+    console.batch_listeners.append(on_batch)
 
     def volume() -> Volume:
         return editor.volume

@@ -60,7 +60,8 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         if path is None:
             console.error(f"lua: cannot find {name}")
             return False
-        return lua.run_file(path)
+        with console.batch():  # a script's edits undo as one
+            return lua.run_file(path)
 
     console.file_runners[".lua"] = run_lua
     names = lambda prefix: [n for n in reg.names() if n.startswith(prefix)]  # noqa: E731

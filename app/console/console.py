@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import shlex
 import traceback
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Callable
 
@@ -68,6 +69,8 @@ class Console:
         self.record_listeners: list[Callable[[str], None]] = []
         self.quit_listeners: list[Callable[[], None]] = []
         self.file_runners: dict[str, Callable[[str], bool]] = {}  # ".lua" -> run that file
+        self.batch_listeners: list[Callable[[bool], None]] = []  # True: a script starts, False: it ended
+        self._batch_depth = 0
         self.waiting: list[tuple[int, list[list[str]]]] = []  # (frames left, commands) after `wait`
         self._depth = 0
 
@@ -183,6 +186,21 @@ class Console:
         if runner is not None and not args:
             return None if not runner(name) else False
         raise CommandError(f"unknown command {name!r}")
+
+    @contextmanager
+    def batch(self):
+        """Commands run inside form one batch (a script): models may undo them as one step."""
+        self._batch_depth += 1
+        if self._batch_depth == 1:
+            for listener in self.batch_listeners:
+                listener(True)
+        try:
+            yield
+        finally:
+            self._batch_depth -= 1
+            if self._batch_depth == 0:
+                for listener in self.batch_listeners:
+                    listener(False)
 
     def request_quit(self) -> None:
         for listener in self.quit_listeners:

@@ -11,9 +11,9 @@ PITCH_LIMIT = 89.0  # straight up or down would make "up" undefined
 
 @dataclass
 class OrbitCamera:
-    yaw: float = 35.0
-    pitch: float = 25.0
-    distance: float = 4.0
+    yaw: float = 25.0
+    pitch: float = 18.0
+    distance: float = 5.2  # the whole [-1, 1] box fits the 40-degree view
     fov: float = 40.0  # vertical, degrees
 
     def __post_init__(self) -> None:

@@ -104,7 +104,18 @@ class _Replace:
         return self.other.nbytes
 
 
-_Step = _Patch | _Rotate | _Replace
+@dataclass
+class _Group:
+    """Steps undone and redone together (the edits of one script)."""
+
+    steps: list
+
+    @property
+    def nbytes(self) -> int:
+        return sum(s.nbytes for s in self.steps)
+
+
+_Step = _Patch | _Rotate | _Replace | _Group
 
 
 def _fmt_bytes(n: int) -> str:
@@ -196,6 +207,7 @@ class Volume:
         self.max_undo_bytes = max_undo_bytes
         self._undo: deque[_Step] = deque()
         self._redo: list[_Step] = []
+        self._pushes = 0
         self._history_bytes = 0  # undo + redo; a push clears redo, undo/redo only move steps
         self._log: deque[tuple[int, Box | None]] = deque()  # (version, changed box or None = everything)
         self._log_floor = 0  # the log holds every change after this version
@@ -371,6 +383,18 @@ class Volume:
         self._undo.append(step)
         return True
 
+    @property
+    def edits(self) -> int:
+        """Undo steps pushed so far, ever: mark it before a batch of edits, then `group_since(mark)`."""
+        return self._pushes
+
+    def group_since(self, mark: int) -> None:
+        """Fold the steps pushed since `edits` was `mark` into one, so one undo takes them all back."""
+        count = min(self._pushes - mark, len(self._undo))
+        if count >= 2:
+            steps = [self._undo.pop() for _ in range(count)][::-1]
+            self._undo.append(_Group(steps))
+
     # --- consumers ------------------------------------------------------------------------------
 
     def changed_since(self, version: int) -> Box | None:
@@ -489,6 +513,9 @@ class Volume:
             self._changed(step.box)
         elif isinstance(step, _Rotate):
             self._rotate(step.axis, -step.turns if undo else step.turns)
+        elif isinstance(step, _Group):
+            for inner in reversed(step.steps) if undo else step.steps:
+                self._apply(inner, undo)
         else:
             self.data, step.other = step.other, self.data
             self._changed(None)
@@ -498,6 +525,7 @@ class Volume:
         self._history_bytes -= sum(s.nbytes for s in self._redo)
         self._redo.clear()
         self._undo.append(step)
+        self._pushes += 1
         self._history_bytes += step.nbytes
         # A step bigger than the byte cap drops too: that edit cannot be undone, but memory stays bounded.
         while self._undo and (len(self._undo) > self.max_undo_steps or self._history_bytes > self.max_undo_bytes):

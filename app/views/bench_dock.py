@@ -16,6 +16,9 @@ def bench_dir() -> Path:
     return default_cache_dir().parent / "bench"
 
 
+TECHNIQUE_OF = {"snowflake": "snowflake", "volume": "paint"}  # the workspace's measured technique
+
+
 class BenchDock(QWidget):
     def __init__(self, parent=None) -> None:
         super().__init__(parent)
@@ -38,7 +41,8 @@ class BenchDock(QWidget):
         layout.addWidget(self.chart, 1)
         self.process: QProcess | None = None
 
-    def show_technique(self, name: str) -> None:
+    def show_workspace(self, workspace: str) -> None:
+        name = TECHNIQUE_OF.get(workspace, workspace)
         self.technique = name
         self.run_button.setEnabled(name in TECHNIQUES)
         csv_path = bench_dir() / f"{name}.csv"
@@ -47,7 +51,8 @@ class BenchDock(QWidget):
         else:
             for p in (self.error_plot, self.time_plot):
                 p.clear()
-            self.status.setText("no measurements yet" if name in TECHNIQUES else f"{name} has no bench yet")
+                p.setTitle(None)
+            self.status.setText(f"{name}: no measurements yet" if name in TECHNIQUES else f"{workspace} has no bench yet")
 
     def load(self, path: Path) -> None:
         try:

@@ -167,7 +167,7 @@ class MainWindow(QMainWindow):
         self.viewport.tool = self.tools.get(name)
         self.panels.setCurrentWidget(self.workspace_panels.get(name, self.placeholder))
         self.resizeDocks([self.docks["editor"]], [EDITOR_DOCK_WIDTH.get(name, 260)], Qt.Orientation.Horizontal)
-        self.bench.show_technique(name)
+        self.bench.show_workspace(name)
 
     def _gl_ready(self, renderer: str) -> None:
         self.gl_label.setText(renderer)

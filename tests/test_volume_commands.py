@@ -1,0 +1,130 @@
+"""The volume verbs through the console: exact effects, clear refusals, files, demos with a snapshot."""
+import numpy as np
+import pytest
+
+from app.console.demo import VirtualClock
+from app.editor import Editor
+from app.io.volume_formats import write_volume
+
+
+@pytest.fixture
+def editor(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    e = Editor(clock=VirtualClock())
+    assert e.execute("new 8 6 4")
+    return e
+
+
+def last_error(editor):
+    return [line.text for line in editor.console.log if line.level == "error"][-1]
+
+
+def test_default_volume_is_coords3d():
+    e = Editor()
+    assert e.volume.size == (64, 64, 64)
+    assert tuple(e.volume.data[0, 0, 63]) == (255, 0, 0, 255) and tuple(e.volume.data[63, 63, 0]) == (0, 255, 255, 255)
+
+
+def test_voxel_stroke_fill_rotate(editor):
+    v = editor.volume
+    assert editor.execute("voxel 1 2 3 10 20 30 40")
+    assert tuple(v.data[3, 2, 1]) == (10, 20, 30, 40)
+    assert editor.execute("stroke y 1 1 255 0 0 255 0 0 7 0")  # axis y: u = x, v = z
+    assert (v.data[0, 1, :, 0] == 255).all() and v.data[1:, 1, :, 3].sum() == 0
+    assert editor.execute("fill z 0 0 5 0 0 255 255")
+    assert (v.data[0, 2:, :, 2] == 255).all() and (v.data[0, 1, :, 0] == 255).all()
+    assert editor.execute("rotate z")
+    assert v.size == (6, 8, 4)
+    assert editor.execute("undo; undo")
+    assert v.size == (8, 6, 4) and v.data[0, 2:, :, 2].sum() == 0
+
+
+@pytest.mark.parametrize("line, needle", [
+    ("voxel 8 0 0 1 1 1 1", ""),
+    ("voxel 0 0 0 256 0 0 255", "0..255"),
+    ("stroke w 0 1 1 1 1 1 0 0", "axis must be x, y or z"),
+    ("stroke z 0 1 1 1 1 1 0", "x1 y1"),
+    ("stroke z 9 1 1 1 1 1 0 0", ""),
+    ("fill z 0 99 0 1 1 1 1", ""),
+    ("rotate q", "axis must be"),
+    ("new 0 4 4", ""),
+    ("new 5000 5000 5000", ""),
+    ("sample teapot", "no sample 'teapot'"),
+    ("sample coords3d 4", "within 8.."),
+    ("slice z 4", "outside 0..3"),
+    ("redo", "nothing to redo"),
+])
+def test_bad_arguments_change_nothing(editor, line, needle):
+    before = (editor.volume.digest(), editor.volume.undo_depth)
+    assert not editor.execute(line)
+    assert needle in last_error(editor)
+    assert (editor.volume.digest(), editor.volume.undo_depth) == before
+
+
+def test_undo_until_nothing_is_left(editor):
+    Editor.execute(editor, "voxel 0 0 0 1 2 3 4")
+    while editor.volume.undo_depth:
+        assert editor.execute("undo")
+    assert not editor.execute("undo") and "nothing to undo" in last_error(editor)
+    assert editor.volume.size == (64, 64, 64)  # back to the default, before `new`
+
+
+@pytest.mark.parametrize("name", ["v.r3", "v.npy", "v.tif", "v.nrrd", "v_%02i.png"])
+def test_save_and_load_every_format(editor, tmp_path, name):
+    editor.execute("stroke z 1 2 9 99 199 255 0 0 7 5")
+    digest = editor.volume.digest()
+    assert editor.execute(f"save {tmp_path / name}")
+    assert editor.execute("new 3 3 3")
+    assert editor.execute(f"load {tmp_path / name}")
+    assert editor.volume.digest() == digest
+
+
+def test_malformed_file_is_refused_and_nothing_changes(editor, tmp_path):
+    (tmp_path / "bad.r3").write_bytes(b"R3" + bytes([8, 0, 8, 0, 8, 0]) + b"\0" * 100)
+    before = (editor.volume.digest(), editor.volume.undo_depth)
+    assert not editor.execute(f"load {tmp_path / 'bad.r3'}")
+    assert "truncated" in last_error(editor)
+    assert (editor.volume.digest(), editor.volume.undo_depth) == before
+
+
+def test_demo_of_an_edited_volume_starts_from_a_snapshot(editor, tmp_path):
+    clock = editor.demos.clock
+    editor.execute("voxel 2 2 2 9 9 9 255")
+    editor.execute("record edits")
+    clock.advance(0.5)
+    editor.execute("stroke z 2 1 255 0 0 255 0 0 7 5; rotate x")
+    editor.execute("stop")
+    assert (tmp_path / "edits.start.r3").exists()
+    fresh = Editor(clock=VirtualClock())
+    assert fresh.execute(f"timedemo {tmp_path / 'edits'}")
+    assert fresh.volume.digest() == editor.volume.digest()
+    assert fresh.digest() == editor.digest()
+
+
+def test_stroke_preview_leaves_one_undo_step(editor):
+    depth = editor.volume.undo_depth
+    editor.execute("stroke.preview z 0 1 255 0 0 255 0 0 3 0")
+    editor.execute("stroke.preview z 0 1 255 0 0 255 0 0 3 0 3 3")
+    assert editor.volume.data[0, 3, 3, 3] == 255
+    editor.execute("stroke z 0 1 255 0 0 255 0 0 3 0 3 3")
+    assert editor.volume.undo_depth == depth + 1
+    editor.execute("stroke.preview z 1 1 255 0 0 255 0 0")
+    editor.execute("stroke.cancel")
+    assert editor.volume.data[1].sum() == 0 and editor.volume.undo_depth == depth + 1
+
+
+def test_pick_sets_the_brush(editor):
+    editor.execute("voxel 1 1 1 12 34 56 78; pick 1 1 1")
+    assert editor.volume_view.brush == (12, 34, 56, 78)
+
+
+def test_cube_lua_draws_a_cube_open_on_one_side():
+    e = Editor()
+    assert e.execute("cube.lua")
+    data = e.volume.data
+    n = e.volume.size[0]
+    solid = data[..., 3] > 0
+    assert solid[:, 0, :].all() and solid[:, -1, :].all() and solid[:, :, 0].all() and solid[:, :, -1].all()
+    assert solid[-1].all() and not solid[0, 1:-1, 1:-1].any()  # back closed, front open
+    assert not solid[1:-1, 1:-1, 1:-1].any() and n == 32
+    assert e.execute("undo") and e.volume.size == (64, 64, 64)
