@@ -100,3 +100,22 @@ def test_number_keys_in_the_3d_view_rotate_and_load_samples(window, painter, qtb
     qtbot.keyClick(vp, Qt.Key.Key_9)
     assert window.editor.volume.size == (64, 64, 64)
     assert tuple(window.editor.volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
+
+
+def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):
+    window.run("sample cornell_box 32")
+    window.run("ui.slicepicker")
+    picker = window.picker
+    picker.move(0, 0)  # off the 3D view: the mouse goes to whatever window is on top
+    picker.axis.setCurrentText("y")
+    assert window.editor.volume_view.highlight == ("y", 1)
+    vp = window.viewport
+    centre = QPoint(vp.width() // 2, vp.height() // 2)
+    qtbot.mouseMove(vp, centre)
+    qtbot.mouseMove(vp, centre + QPoint(1, 1))
+    highlight = window.editor.volume_view.highlight
+    assert highlight is not None and highlight[0] == "y"
+    qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=centre + QPoint(1, 1))
+    assert (window.editor.volume_view.axis, window.editor.volume_view.index) == highlight
+    assert window.picker is None and window.editor.volume_view.highlight is None
+    assert window.painter.axis.currentText() == "y"

@@ -42,7 +42,8 @@ class OrbitCamera:
         return m
 
     def projection(self, aspect: float, near: float = 0.05, far: float = 200.0) -> np.ndarray:
-        f = 1.0 / math.tan(math.radians(self.fov) / 2)
+        # In a tall view the field of view is kept horizontally, so the volume still fits.
+        f = min(1.0, aspect) / math.tan(math.radians(self.fov) / 2)
         m = np.zeros((4, 4))
         m[0, 0], m[1, 1] = f / aspect, f
         m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)

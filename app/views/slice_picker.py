@@ -33,7 +33,10 @@ class SlicePicker(QDialog):
     def _axis_changed(self, axis: str) -> None:
         self.tool.picker_axis = axis
         self.index.setMaximum(self.editor.volume.depth(axis) - 1)
+        self.index.blockSignals(True)
         self.index.setValue(min(self.editor.volume_view.index, self.index.maximum()))
+        self.index.blockSignals(False)
+        self.run(f"slice.highlight {axis} {self.index.value()}")
 
     def pick(self, axis: str, index: int) -> None:
         self.run(f"slice {axis} {index}")
