@@ -62,9 +62,11 @@ class Editor:
                 self.volume_view.key(), self.console.registry.cvar_changes)
 
     def digest(self) -> dict[str, str]:
-        cvars = hashlib.sha256("".join(f"{n}={c.text()};" for n, c in sorted(self.console.registry.cvars.items()))
+        cvars = hashlib.sha256("".join(f"{n}={c.serialise()};" for n, c in sorted(self.console.registry.cvars.items()))
                                .encode()).hexdigest()[:16]
-        return {"snowflake": self.snowflake.digest(), "volume": self.volume.digest(), "cvars": cvars}
+        v = self.volume_view
+        view = hashlib.sha256(repr((v.key(), self.workspace)).encode()).hexdigest()[:16]
+        return {"snowflake": self.snowflake.digest(), "volume": self.volume.digest(), "cvars": cvars, "view": view}
 
     def state_commands(self, demo_path: Path) -> list[str]:
         """Commands that rebuild the current state from any other: a demo's opening lines.
@@ -80,10 +82,11 @@ class Editor:
         lines += [f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
                   f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
                   f"vol.background {' '.join(map(str, v.background))}"]
+        lines += [f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}"]
         lines += ["snow.clear"]
         lines += [f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes]
         lines += [f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]
-        lines += [f"{'seta' if c.archive else 'set'} {n} {c.text()}"
+        lines += [f"{'seta' if c.archive else 'set'} {n} {shlex.quote(c.serialise())}"
                   for n, c in sorted(self.console.registry.cvars.items())]
         lines.append(f"workspace {self.workspace}")
         return lines

@@ -95,7 +95,7 @@ def test_bind_unbind_bindlist(editor):
     assert e.execute("bind F5 snow.level 3")  # unquoted words are joined, as in Quake
     assert e.binds.lookup("snowflake", "F5") == "snow.level 3"
     assert e.execute('bind snowflake:f5 "snow.level 4"')
-    assert e.binds.lookup("snowflake", "F5") == "snow.level 4" and e.binds.lookup("volume", "F5") == "snow.level 3"
+    assert e.binds.lookup("snowflake", "F5") == "snow.level 4" and e.binds.lookup("clouds", "F5") == "snow.level 3"
     e.execute("bind F5")
     assert out(e) == "F5 is bound to 'snow.level 3'"
     assert not e.execute("bind NOTAKEY x") and "no key called" in errors(e)[-1]
@@ -168,3 +168,12 @@ def test_first_argument_of_the_editor(arg, line):
     from app.views.application import startup_command
 
     assert startup_command(arg) == line
+
+
+def test_an_unbound_default_stays_unbound_after_a_restart(editor):
+    assert editor.execute("unbind volume:m; writeconfig")
+    assert Editor().binds.lookup("volume", "m") is None
+
+
+def test_completion_never_drops_the_typed_letter(editor):
+    assert complete(editor.console.registry, "bind f").line == "bind f"

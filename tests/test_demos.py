@@ -133,3 +133,17 @@ def test_shipped_demo_plays():
     assert e.execute("timedemo snowflake_tour")
     assert errors(e) == []
     assert e.snowflake.level == 6 and len(e.snowflake.flakes) == 2
+
+
+def test_preamble_quotes_text_and_keeps_floats_exact(tmp_path):
+    clock = VirtualClock()
+    e = Editor(clock=clock)
+    e.execute('set greeting "hello world"; cl_distanceScale 1.23456789; mode 3; shadows 0; light 0.1 0.2 0.3')
+    e.execute("record exact")
+    e.execute("stop")
+    fresh = Editor(clock=VirtualClock())
+    assert fresh.execute("timedemo exact")
+    reg = fresh.console.registry
+    assert reg.cvars["greeting"].value == "hello world" and reg.cvars["cl_distanceScale"].value == 1.23456789
+    assert fresh.digest() == e.digest()
+    assert (fresh.volume_view.mode, fresh.volume_view.shadows, fresh.volume_view.light) == (3, False, (0.1, 0.2, 0.3))

@@ -64,8 +64,7 @@ def test_click_adds_drag_moves_right_click_removes(window, qtbot):
     qtbot.mousePress(vp, Qt.MouseButton.LeftButton, pos=empty)
     qtbot.mouseMove(vp, centre_pixel_of_world(window, -1.1, -1.0))
     qtbot.mouseRelease(vp, Qt.MouseButton.LeftButton, pos=centre_pixel_of_world(window, -1.1, -1.0))
-    assert len(scene.flakes) == n + 1 and abs(scene.flakes[-1].y + 1.0) < 0.02
-    assert inputs(window)[-1].startswith(f"] snow.move {n} ")
+    assert len(scene.flakes) == n + 1 and abs(scene.flakes[-1].y + 1.0) < 0.02  # (drags run without echo)
 
     qtbot.mouseClick(vp, Qt.MouseButton.RightButton, pos=centre_pixel_of_world(window, -1.1, -1.0))
     assert len(scene.flakes) == n

@@ -57,7 +57,7 @@ def test_digest_tracks_state(editor):
     editor.execute("snow.remove 7")
     assert editor.digest() == d0
     editor.execute("digest")
-    assert [line.text for line in editor.console.log[-3:]] == [f"{k} {v}" for k, v in d0.items()]
+    assert [line.text for line in editor.console.log[-len(d0):]] == [f"{k} {v}" for k, v in d0.items()]
 
 
 def test_scene_round_trip(editor, tmp_path):

@@ -128,3 +128,33 @@ def test_cube_lua_draws_a_cube_open_on_one_side():
     assert solid[-1].all() and not solid[0, 1:-1, 1:-1].any()  # back closed, front open
     assert not solid[1:-1, 1:-1, 1:-1].any() and n == 32
     assert e.execute("undo") and e.volume.size == (64, 64, 64)
+
+
+def test_a_preview_never_mixes_with_the_history(editor):
+    v = editor.volume
+    editor.execute("stroke.preview z 0 1 255 0 0 255 2 2; voxel 7 5 0 0 255 0 255; stroke.cancel")
+    assert tuple(v.data[0, 5, 7]) == (0, 255, 0, 255) and v.data[0, 2, 2, 3] == 0
+    editor.execute("stroke.preview z 0 1 255 0 0 255 3 3; stroke.cancel")
+    assert not editor.execute("redo") and v.data[0, 3, 3, 3] == 0
+
+
+def test_undo_inside_a_script_keeps_earlier_edits_apart(editor, tmp_path):
+    editor.execute("voxel 0 0 0 255 0 0 255")
+    (tmp_path / "s.lua").write_text("cmd.voxel(1,0,0,9,9,9,255)\ncmd.voxel(2,0,0,9,9,9,255)\ncmd.undo()\n"
+                                    "cmd.voxel(3,0,0,9,9,9,255)\n")
+    assert editor.execute(f"lua {tmp_path / 's.lua'}")
+    assert editor.execute("undo")  # the script's edits, as one
+    assert tuple(editor.volume.data[0, 0, 0]) == (255, 0, 0, 255)
+    assert editor.volume.data[0, 0, 1:4, 3].sum() == 0
+
+
+def test_undo_that_shrinks_the_volume_keeps_the_slice_inside(editor):
+    editor.execute("new 8 8 40; slice z 39; undo")
+    assert editor.volume.size == (8, 6, 4) and editor.volume_view.index == 3
+
+
+def test_small_cornell_name_keeps_its_walls():
+    e = Editor()
+    e.execute("sample cornell_name 16")
+    green = np.array([40, 170, 60, 255])
+    assert (e.volume.data[:-1, 1:-1, -1] == green).all()  # no letter wrapped onto the right wall

@@ -5,7 +5,8 @@ import pytest
 from app.bench import harness, paint
 from app.gl.headless import OffscreenTarget
 from app.gl.shaders import ShaderLibrary
-from app.gl.volume import VolumeRenderer, VolumeTexture
+from app.gl.raytracer import RayTracer, TraceSettings
+from app.gl.volume import VolumeTexture
 from app.model.camera3d import OrbitCamera
 from app.model.volume import Volume
 from app.model.volume_pick import first_hit
@@ -33,12 +34,12 @@ def test_sub_box_uploads_keep_the_texture_equal_to_the_model(gl):
 
 @pytest.fixture(scope="module")
 def renderer(gl):
-    return VolumeRenderer(gl, ShaderLibrary(gl, [SHADERS]))
+    return RayTracer(gl, ShaderLibrary(gl, [SHADERS]))
 
 
-def render(gl, renderer, volume, view, size=(96, 96)):
+def render(gl, renderer, volume, view, size=(96, 96), mode=2):
     target = OffscreenTarget(gl, size, samples=0)
-    renderer.render(target.fbo, volume, view, steps=128)
+    renderer.render(target.fbo, volume, view, TraceSettings(mode=mode, steps=128))
     image = target.read()
     target.release()
     return image

@@ -2,6 +2,7 @@
 tests rely on them. Colour components are 0-255 integers; slices are (axis, index) with (u, v) inside."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -9,6 +10,7 @@ from app.console import files
 from app.console.registry import CommandError, Cvar
 from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
 from app.model.camera3d import OrbitCamera
+from app.model.render_modes import MODES
 from app.model.volume import AXES, Volume
 from app.model.volume_samples import SAMPLES, make
 
@@ -51,7 +53,6 @@ def register(editor: "Editor") -> None:
         reg.add_cvar(Cvar(name, kind, default, text, min=lo, max=hi, archive=True))
     brush_round = reg.add_cvar(Cvar("brush_round", bool, True, "Round brush (0: square)", archive=True))
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
-    preview = {"active": False}  # a stroke shown while the mouse is down; replaced by the real one
     batch = {"mark": 0}
 
     def on_batch(starting: bool) -> None:
@@ -67,13 +68,14 @@ def register(editor: "Editor") -> None:
 
     def replace(data, what: str) -> None:
         volume().replace(data)
-        view.index = min(view.index, volume().depth(view.axis) - 1)
+        clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
 
-    def end_preview() -> None:
-        if preview["active"]:
-            preview["active"] = False
-            volume().undo()
+    def clamp_slice() -> None:
+        """After anything that may change the volume's shape, keep the edited slice inside it."""
+        view.index = min(view.index, volume().depth(view.axis) - 1)
+        if view.highlight and view.highlight[1] >= volume().depth(view.highlight[0]):
+            view.highlight = None
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
@@ -117,20 +119,16 @@ def register(editor: "Editor") -> None:
     @reg.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                  "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)")
     def stroke(axis, index, size, r, g, b, a, coords) -> None:
-        args = stroke_args(axis, index, size, r, g, b, a, coords)
-        end_preview()
-        volume().stroke(*args, round_brush=brush_round.value)
+        volume().stroke(*stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
     @reg.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                  "Show a stroke in progress (the painter, while the mouse is down); not recorded", recorded=False)
     def stroke_preview(axis, index, size, r, g, b, a, coords) -> None:
-        args = stroke_args(axis, index, size, r, g, b, a, coords)
-        end_preview()
-        preview["active"] = volume().stroke(*args, round_brush=brush_round.value) is not None
+        volume().preview_stroke(*stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
     @reg.command("stroke.cancel", "", "Drop a stroke in progress", recorded=False)
     def stroke_cancel() -> None:
-        end_preview()
+        volume().clear_preview()
 
     @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int",
                  "Flood-fill the region of one colour around (x, y) within a slice")
@@ -141,7 +139,7 @@ def register(editor: "Editor") -> None:
                  completer=lambda p: [a for a in AXES if a.startswith(p)])
     def rotate(axis: str) -> None:
         volume().rotate(_axis(axis))
-        view.index = min(view.index, volume().depth(view.axis) - 1)
+        clamp_slice()
 
     @reg.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)")
     def smooth() -> None:
@@ -149,14 +147,15 @@ def register(editor: "Editor") -> None:
 
     @reg.command("undo", "", "Undo the last edit of the volume")
     def undo() -> None:
-        end_preview()
         if not volume().undo():
             raise CommandError("nothing to undo")
+        clamp_slice()
 
     @reg.command("redo", "", "Redo the last undone edit of the volume")
     def redo() -> None:
         if not volume().redo():
             raise CommandError("nothing to redo")
+        clamp_slice()
 
     @reg.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour")
     def pick(x: int, y: int, z: int) -> None:
@@ -194,6 +193,34 @@ def register(editor: "Editor") -> None:
         pitch = min(max(cam.pitch + dpitch, -85.0), 85.0)
         distance = min(max(cam.distance + ddistance, 1.0), 20.0)
         orbit(cam.yaw + dyaw, pitch, distance)
+
+    @reg.command("mode", "[number:int]", "Show or pick the ray tracer's mode (F1-F11): " +
+                 "; ".join(f"{m.number} {m.name}" for m in MODES.values()))
+    def mode(number: int | None = None) -> None:
+        if number is None:
+            console.print(f"mode {view.mode}: {MODES[view.mode].name}")
+        elif number not in MODES:
+            raise CommandError(f"no mode {number}; modes are 1..{len(MODES)}")
+        else:
+            view.mode = number
+
+    @reg.command("mode.next", "", "Cycle the ray tracer's modes (key p)")
+    def mode_next() -> None:
+        view.mode = view.mode % len(MODES) + 1
+
+    @reg.command("shadows", "[on:int]", "Shadows on or off in the Phong modes (key l toggles)")
+    def shadows(on: int | None = None) -> None:
+        view.shadows = (not view.shadows) if on is None else bool(on)
+
+    @reg.command("light", "x:float y:float z:float", "Place the first light (world units; key z moves it)")
+    def light(x: float, y: float, z: float) -> None:
+        view.light = (x, y, z)
+
+    @reg.command("light.orbit", "degrees:float", "Turn the first light about the vertical axis (key z)")
+    def light_orbit(degrees: float) -> None:
+        x, y, z = view.light
+        a = math.radians(degrees)
+        view.light = (x * math.cos(a) + z * math.sin(a), y, -x * math.sin(a) + z * math.cos(a))
 
     @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)")
     def background(r: int, g: int, b: int) -> None:

@@ -26,8 +26,8 @@ def _infer(text: str) -> type:
 def config_lines(console: Console, binds: Binds) -> list[str]:
     """What writeconfig saves: archived cvars, binds and aliases, as commands."""
     reg = console.registry
-    lines = [f"seta {name} {shlex.quote(c.text())}" for name, c in sorted(reg.cvars.items()) if c.archive]
-    lines += binds.lines()
+    lines = [f"seta {name} {shlex.quote(c.serialise())}" for name, c in sorted(reg.cvars.items()) if c.archive]
+    lines += ["unbindall", *binds.lines()]  # the saved binds are the whole set: a removed default stays removed
     lines += [f"alias {name} {shlex.quote(text)}" for name, text in sorted(reg.aliases.items())]
     return lines
 
@@ -198,6 +198,10 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             console.print(f"{key} is bound to {found!r}" if found else f"{key} is not bound")
         else:
             binds.bind(key, command)
+
+    @reg.command("unbindall", "", "Remove every key binding")
+    def unbindall() -> None:
+        binds.table.clear()
 
     @reg.command("unbind", "key", "Remove a key binding", completer=key_names)
     def unbind(key: str) -> None:

@@ -41,4 +41,6 @@ def _extend(head: str, word: str, matches: list[str]) -> str:
     if len(matches) == 1:
         done = matches[0]
         return head + done + ("" if done.endswith("/") else " ")
-    return head + os.path.commonprefix(matches)
+    common = os.path.commonprefix(matches)
+    # Matching may ignore case (key names): never complete to less than what was typed.
+    return head + (common if len(common) >= len(word) else word)

@@ -9,6 +9,7 @@ from typing import Callable
 
 from app.console.registry import CommandError, Registry, Reported
 
+MAX_LOG = 10_000  # lines kept; the oldest go first
 MAX_DEPTH = 32  # aliases and exec'd files calling each other: stop a loop, not a deep script
 
 
@@ -77,6 +78,8 @@ class Console:
     def print(self, text: str, level: str = "info") -> None:
         line = LogLine(level, text)
         self.log.append(line)
+        if len(self.log) > MAX_LOG:
+            del self.log[: len(self.log) - MAX_LOG]
         for listener in self.log_listeners:
             listener(line)
 

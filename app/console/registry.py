@@ -128,9 +128,16 @@ class Cvar:
             raise
 
     def text(self) -> str:
+        """For people: floats shortened (%g)."""
+        if self.type is float:
+            return f"{self.value:g}"
+        return self.serialise()
+
+    def serialise(self) -> str:
+        """For files, demos and digests: floats exact (repr round-trips)."""
         if self.type is bool:
             return "1" if self.value else "0"
-        return f"{self.value:g}" if self.type is float else str(self.value)
+        return repr(self.value) if self.type is float else str(self.value)
 
 
 class Registry:

@@ -82,6 +82,7 @@ class _Patch:
 
     box: Box
     other: np.ndarray
+    serial: int = 0  # when it was pushed: a batch groups the steps pushed after its mark
 
     @property
     def nbytes(self) -> int:
@@ -93,11 +94,13 @@ class _Rotate:
     axis: str
     turns: int
     nbytes: int = 0  # stores no voxels: undo is the inverse turn
+    serial: int = 0
 
 
 @dataclass
 class _Replace:
     other: np.ndarray  # the whole image not currently shown
+    serial: int = 0
 
     @property
     def nbytes(self) -> int:
@@ -109,6 +112,7 @@ class _Group:
     """Steps undone and redone together (the edits of one script)."""
 
     steps: list
+    serial: int = 0
 
     @property
     def nbytes(self) -> int:
@@ -208,6 +212,8 @@ class Volume:
         self._undo: deque[_Step] = deque()
         self._redo: list[_Step] = []
         self._pushes = 0
+        self._preview: _Patch | None = None
+        self._previewing = False
         self._history_bytes = 0  # undo + redo; a push clears redo, undo/redo only move steps
         self._log: deque[tuple[int, Box | None]] = deque()  # (version, changed box or None = everything)
         self._log_floor = 0  # the log holds every change after this version
@@ -266,6 +272,7 @@ class Volume:
     # --- edits ----------------------------------------------------------------------------------
 
     def set_voxel(self, x: int, y: int, z: int, rgba: Sequence[int]) -> None:
+        self._settle_preview()
         z, y, x = self._voxel(x, y, z)
         colour = _colour(rgba)
         if not np.array_equal(self.data[z, y, x], colour):
@@ -274,6 +281,7 @@ class Volume:
     def stroke(self, axis: str, index: int, size: int, rgba: Sequence[int], points: list[tuple[int, int]],
                round_brush: bool = True) -> Box | None:
         """Stamp the brush along the polyline through `points` (slice u, v); returns the changed box."""
+        self._settle_preview()
         plane = self._plane(axis, index)
         size, colour = _int("brush size", size), _colour(rgba)
         if not 1 <= size <= MAX_SIDE:
@@ -303,6 +311,7 @@ class Volume:
 
     def fill(self, axis: str, index: int, u: int, v: int, rgba: Sequence[int]) -> Box | None:
         """Flood the 4-connected region of the slice that has exactly the colour at (u, v)."""
+        self._settle_preview()
         plane = self._plane(axis, index)
         u, v, colour = _int("u", u), _int("v", v), _colour(rgba)
         vs, us = plane.shape[:2]
@@ -316,6 +325,7 @@ class Volume:
 
     def smooth(self, box: Box | None = None) -> Box | None:
         """3x3x3 box filter over `box` (default: all), reading neighbours beyond it, edge-clamped at the border."""
+        self._settle_preview()
         full = self.full_box()
         box = full if box is None else box.intersect(full)
         if box.empty:
@@ -344,6 +354,7 @@ class Volume:
 
     def rotate(self, axis: str, turns: int = 1) -> None:
         """Quarter turns about an axis, counter-clockwise looking from +axis towards the origin."""
+        self._settle_preview()
         turns = _int("turns", turns) % 4
         self._axis(axis)
         if turns:
@@ -352,6 +363,7 @@ class Volume:
 
     def replace(self, data: np.ndarray) -> None:
         """Swap in a whole new image (a loaded file) as one undo step."""
+        self._settle_preview()
         new = self._validated(data)
         self._push(_Replace(self.data))
         self.data = new
@@ -368,6 +380,7 @@ class Volume:
         return len(self._redo)
 
     def undo(self) -> bool:
+        self._settle_preview()
         if not self._undo:
             return False
         step = self._undo.pop()
@@ -376,6 +389,7 @@ class Volume:
         return True
 
     def redo(self) -> bool:
+        self._settle_preview()
         if not self._redo:
             return False
         step = self._redo.pop()
@@ -389,11 +403,37 @@ class Volume:
         return self._pushes
 
     def group_since(self, mark: int) -> None:
-        """Fold the steps pushed since `edits` was `mark` into one, so one undo takes them all back."""
-        count = min(self._pushes - mark, len(self._undo))
-        if count >= 2:
-            steps = [self._undo.pop() for _ in range(count)][::-1]
-            self._undo.append(_Group(steps))
+        """Fold the steps pushed since `edits` was `mark` into one, so one undo takes them all back.
+        Steps from before the mark stay apart, even if the batch undid and redid some of them."""
+        steps = []
+        while self._undo and self._undo[-1].serial > mark:
+            steps.append(self._undo.pop())
+        if len(steps) == 1:
+            self._undo.append(steps[0])
+        elif steps:
+            self._undo.append(_Group(steps[::-1], serial=steps[0].serial))
+
+    # --- preview: an edit shown but kept out of the history ----------------------------------
+
+    def preview_stroke(self, *args, **kwargs) -> Box | None:
+        """Paint a stroke that is shown (and marked changed) but not recorded: the next preview, any
+        edit, undo or redo first puts the voxels back, so it can never mix with the history."""
+        self.clear_preview()
+        self._previewing = True
+        try:
+            return self.stroke(*args, **kwargs)
+        finally:
+            self._previewing = False
+
+    def _settle_preview(self) -> None:
+        if not self._previewing:
+            self.clear_preview()
+
+    def clear_preview(self) -> None:
+        if self._preview is not None:
+            patch, self._preview = self._preview, None
+            self.data[patch.box.slices()] = patch.other
+            self._changed(patch.box)
 
     # --- consumers ------------------------------------------------------------------------------
 
@@ -496,6 +536,10 @@ class Volume:
         return self._record(box, before)
 
     def _record(self, box: Box, before: np.ndarray) -> Box:
+        if self._previewing:
+            self._preview = _Patch(box, before)
+            self._changed(box)
+            return box
         self._push(_Patch(box, before))
         self._changed(box)
         return box
@@ -524,8 +568,9 @@ class Volume:
         """Record an edit; clears redo and drops the oldest steps beyond the count and byte caps."""
         self._history_bytes -= sum(s.nbytes for s in self._redo)
         self._redo.clear()
-        self._undo.append(step)
         self._pushes += 1
+        step.serial = self._pushes
+        self._undo.append(step)
         self._history_bytes += step.nbytes
         # A step bigger than the byte cap drops too: that edit cannot be undone, but memory stays bounded.
         while self._undo and (len(self._undo) > self.max_undo_steps or self._history_bytes > self.max_undo_bytes):

@@ -63,8 +63,8 @@ def cornell_name(n: int = 64, text: str = NAME) -> np.ndarray:
     for ch in text:
         for row, bits in enumerate(GLYPHS[ch]):
             for col, bit in enumerate(bits):
-                if bit == "#":
-                    y0, x0 = y + row * scale, x + col * scale
+                y0, x0 = y + row * scale, x + col * scale
+                if bit == "#" and x0 >= 0 and x0 + scale <= n:  # a small box shows only what fits
                     data[n - 2 * t:n - t, y0:y0 + scale, x0:x0 + scale] = (30, 60, 200, 255)
         x += 6 * scale
     return data

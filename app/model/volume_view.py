@@ -14,10 +14,14 @@ class VolumeView:
     index: int = 0
     highlight: tuple[str, int] | None = None  # the slice picker's hovered slice
     brush: tuple[int, int, int, int] = (255, 140, 40, 255)  # the painter's colour
+    mode: int = 5                 # Tex3Dtrace's F-key mode (app/model/render_modes.py)
+    shadows: bool = True          # key l
+    light: tuple[float, float, float] = (0.4, 0.7, 2.6)  # the first light; key z moves it
 
     def key(self) -> tuple:
         c = self.camera
-        return (c.yaw, c.pitch, c.distance, self.background, self.axis, self.index, self.highlight, self.brush)
+        return (c.yaw, c.pitch, c.distance, self.background, self.axis, self.index, self.highlight, self.brush,
+                self.mode, self.shadows, self.light)
 
 
 def box_extents(size: tuple[int, int, int]) -> tuple[float, float, float]:

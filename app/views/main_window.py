@@ -18,6 +18,8 @@ from app.views.viewport import Viewport
 from app.views.volume_tool import VolumeTool
 
 EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520}
+# Commands a drag or hover sends many times a second: run (and record) them without echoing each one.
+QUIET = {"stroke.preview", "slice.highlight", "orbit", "snow.move", "snow.view"}
 
 
 class MainWindow(QMainWindow):
@@ -136,7 +138,7 @@ class MainWindow(QMainWindow):
 
     def run(self, line: str) -> bool:
         """Every edit from a widget, the mouse or a key passes through the console."""
-        return self.editor.execute(line)
+        return self.editor.console.execute(line, echo=line.split(" ", 1)[0] not in QUIET)
 
     def toggle_console(self) -> None:
         dock = self.docks["console"]
