@@ -64,7 +64,7 @@ def cornell_name(n: int = 64, text: str = NAME) -> np.ndarray:
         for row, bits in enumerate(GLYPHS[ch]):
             for col, bit in enumerate(bits):
                 y0, x0 = y + row * scale, x + col * scale
-                if bit == "#" and x0 >= 0 and x0 + scale <= n:  # a small box shows only what fits
+                if bit == "#" and t <= x0 and x0 + scale <= n - t:  # a small box shows only what fits
                     data[n - 2 * t:n - t, y0:y0 + scale, x0:x0 + scale] = (30, 60, 200, 255)
         x += 6 * scale
     return data
