@@ -42,10 +42,10 @@ class DistanceTexture:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.texture: moderngl.Texture3D | None = None
-        self.seen = -1
+        self.seen = (None, -1)  # (volume, version) the distances were computed for
 
     def sync(self, volume) -> moderngl.Texture3D:
-        if self.seen != volume.version:
+        if self.seen[0] is not volume or self.seen[1] != volume.version:
             distance = distance_field(volume.data)
             if self.texture is None or self.texture.size != volume.size:
                 if self.texture is not None:
@@ -54,7 +54,7 @@ class DistanceTexture:
                 self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
             else:
                 self.texture.write(distance)
-            self.seen = volume.version
+            self.seen = (volume, volume.version)
         return self.texture
 
 

@@ -13,9 +13,12 @@ class VolumeTexture:
         self.ctx = ctx
         self.texture: moderngl.Texture3D | None = None
         self.seen = -1
+        self.source = None  # the Volume mirrored: versions only compare within one volume
         self.uploaded_voxels = 0  # since the last reset: what the bench and tests count
 
     def sync(self, volume) -> moderngl.Texture3D:
+        if self.source is not volume:
+            self.source, self.seen = volume, -1  # changed_since(-1): the whole volume
         if self.texture is None or self.texture.size != volume.size:
             if self.texture is not None:
                 self.texture.release()

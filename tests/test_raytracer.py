@@ -1,0 +1,118 @@
+"""The ray tracer's modes on the GPU (headless) against the CPU reference, and its failure cases."""
+import numpy as np
+import pytest
+
+from app.gl.headless import OffscreenTarget
+from app.gl.raytracer import RayTracer, TraceSettings
+from app.gl.shaders import ShaderLibrary
+from app.model.camera3d import OrbitCamera
+from app.model.render_modes import MODES
+from app.model.volume import Volume
+from app.model.volume_samples import coords3d, cornell_box
+from app.model.volume_view import VolumeView
+from app.reference.volume import render as reference
+from app.resources import SHADERS
+
+SIZE = (48, 48)
+
+
+@pytest.fixture(scope="module")
+def tracer(gl):
+    return RayTracer(gl, ShaderLibrary(gl, [SHADERS]))
+
+
+def gpu(gl, tracer, data, view, size=SIZE, **settings):
+    target = OffscreenTarget(gl, size, samples=0)
+    tracer.render(target.fbo, Volume(data), view, TraceSettings(slice_planes=False, **settings))
+    image = target.read()[..., :3] / 255.0
+    target.release()
+    return image
+
+
+def cpu(data, view, mode, size=SIZE, steps=1024, **kw):
+    return reference(data, view.camera, size, MODES[mode], steps=steps,
+                     background=np.array(view.background) / 255.0, **kw)
+
+
+VIEW = VolumeView(camera=OrbitCamera(yaw=20, pitch=15, distance=5.2))
+
+
+@pytest.mark.parametrize("mode", sorted(MODES))
+def test_every_mode_matches_the_reference(gl, tracer, mode):
+    data = cornell_box(24)
+    image = gpu(gl, tracer, data, VIEW, mode=mode, steps=128)
+    err = np.abs(image - cpu(data, VIEW, mode))
+    assert np.isfinite(image).all()
+    assert np.sqrt((err ** 2).mean()) < 0.02  # silhouettes differ by a step; the rest agrees
+    assert np.percentile(err, 95) < 0.02
+
+
+def test_two_pass_and_one_pass_agree(gl, tracer):
+    data = cornell_box(24)
+    for two, one in ((1, 4), (2, 9), (3, 5)):
+        if MODES[one].dual:
+            continue
+        a = gpu(gl, tracer, data, VIEW, mode=two)
+        b = gpu(gl, tracer, data, VIEW, mode=one)
+        assert np.abs(a - b).max() <= 2 / 255
+
+
+def test_camera_inside_the_volume(gl, tracer):
+    inside = VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=0.5))
+    data = cornell_box(24)
+    for mode in (3, 5):  # the two-pass setup falls back to the eye as the entry
+        image = gpu(gl, tracer, data, inside, mode=mode)
+        err = np.abs(image - cpu(data, inside, 5))
+        assert np.isfinite(image).all() and np.sqrt((err ** 2).mean()) < 0.03
+
+
+def test_rays_parallel_to_box_faces(gl, tracer):
+    straight = VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=5.2))
+    image = gpu(gl, tracer, coords3d(16), straight, mode=2)
+    err = np.abs(image - cpu(coords3d(16), straight, 2))
+    assert np.isfinite(image).all() and np.percentile(err, 95) < 0.02
+
+
+@pytest.mark.parametrize("shape", [(1, 1, 1), (256, 32, 8), (8, 8, 8)])
+def test_odd_shapes_empty_and_full_volumes_stay_finite(gl, tracer, shape):
+    w, h, d = shape
+    for data in (np.zeros((d, h, w, 4), np.uint8), np.full((d, h, w, 4), 255, np.uint8)):
+        for mode in sorted(MODES):
+            image = gpu(gl, tracer, data, VIEW, size=(24, 24), mode=mode)
+            assert np.isfinite(image).all()
+    empty = gpu(gl, tracer, np.zeros((d, h, w, 4), np.uint8), VIEW, size=(24, 24), mode=5)
+    assert np.allclose(empty, np.array(VIEW.background) / 255.0, atol=1 / 255)
+
+
+def test_too_few_steps_is_measurably_worse(gl, tracer):
+    """The seed's defect: too few ray steps miss thin walls; the error falls as cl_steps grows."""
+    data = cornell_box(32)
+    truth = cpu(data, VIEW, 2)
+    errors = [np.sqrt(((gpu(gl, tracer, data, VIEW, mode=2, steps=s) - truth) ** 2).mean()) for s in (4, 16, 128)]
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[0] > 0.05 and errors[2] < 0.02
+
+
+def test_constant_shadow_steps_err_where_correct_ones_do_not(gl, tracer):
+    """The seed's constant 20 (or 50) shadow steps skip thin occluders on long shadow rays."""
+    data = cornell_box(32)
+    truth = cpu(data, VIEW, 8, steps=1024)
+    few = np.sqrt(((gpu(gl, tracer, data, VIEW, mode=5, shadow_steps=3) - truth) ** 2).mean())
+    correct = np.sqrt(((gpu(gl, tracer, data, VIEW, mode=8, steps=256) - truth) ** 2).mean())
+    assert correct < few
+
+
+def test_distance_skipping_takes_fewer_samples(gl, tracer):
+    data = cornell_box(64)
+    into = VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=3.2))  # through the open front
+    target = OffscreenTarget(gl, SIZE, samples=0)
+    fbo = gl.framebuffer([gl.renderbuffer(SIZE, 4, dtype="f4")])
+    counts = {}
+    for mode in (5, 7):
+        tracer.render(fbo, Volume(data), into, TraceSettings(mode=mode, debug_samples=True, slice_planes=False))
+        counts[mode] = np.frombuffer(fbo.read(components=4, dtype="f4"), "f4")[0::4].mean()
+    target.release()
+    assert counts[7] < 0.8 * counts[5]
+    plain = gpu(gl, tracer, data, into, mode=5)
+    skipped = gpu(gl, tracer, data, into, mode=7)
+    assert np.abs(plain - skipped).max() <= 1 / 255 + 1e-9
