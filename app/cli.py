@@ -80,7 +80,7 @@ def bench(args) -> int:
     from app.gl.headless import create_context
 
     ensure_qt_app(offscreen=True)  # the chart is painted by pyqtgraph
-    tech = TECHNIQUES[args.technique]()
+    tech = TECHNIQUES[args.technique](quick=args.quick)
     ctx = create_context()
     print(f"bench {tech.name} on {ctx.info['GL_RENDERER']}{' (quick)' if args.quick else ''}")
     start = time.perf_counter()

@@ -1,4 +1,4 @@
-"""`shadelab bench <technique>`: each technique module offers technique() -> Technique."""
-from app.bench import paint, snowflake
+"""`shadelab bench <technique>`: each technique module offers technique(quick) -> Technique."""
+from app.bench import paint, snowflake, volume
 
-TECHNIQUES = {"snowflake": snowflake.technique, "paint": paint.technique}
+TECHNIQUES = {"snowflake": snowflake.technique, "paint": paint.technique, "volume": volume.technique}

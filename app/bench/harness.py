@@ -26,6 +26,8 @@ class Method:
     render: Callable[[Any, OffscreenTarget, float, Any], None]
     output: Callable[[Any, OffscreenTarget, float, Any], np.ndarray]
     quick_values: Sequence[float] | None = None
+    reference: Callable[[Any, float, tuple[int, int]], np.ndarray] | None = None  # else the technique's
+    stats: Callable[[Any, OffscreenTarget, float, Any], dict] | None = None  # extra CSV columns
 
 
 @dataclass
@@ -54,9 +56,11 @@ class Row:
     runs: int
     rmse: float
     max_abs_error: float
+    extra: dict = field(default_factory=dict)  # a technique's own measures (samples per pixel...)
 
     def as_csv(self) -> dict[str, str]:
-        return {k: (f"{v:.6g}" if isinstance(v, float) else str(v)) for k, v in self.__dict__.items()}
+        values = {**{k: v for k, v in self.__dict__.items() if k != "extra"}, **self.extra}
+        return {k: (f"{v:.6g}" if isinstance(v, float) else str(v)) for k, v in values.items()}
 
 
 def errors(output: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
@@ -90,7 +94,7 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
     size = tech.quick_size if quick else tech.size
     runs = runs or (3 if quick else 7)
     scene_names = list(tech.quick_scenes if quick and tech.quick_scenes else tech.scenes)
-    references: dict[tuple[str, float], np.ndarray] = {}
+    references: dict[tuple, np.ndarray] = {}
     rows: list[Row] = []
     target = OffscreenTarget(ctx, size)
     try:
@@ -101,12 +105,14 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
                 scene = tech.scenes[scene_name]
                 for value in values:
                     ms, gpu_ms = time_frames(ctx, lambda: method.render(state, target, value, scene), runs)
-                    key = (scene_name, value)
+                    reference = method.reference or tech.reference
+                    key = (reference, scene_name, value)
                     if key not in references:
-                        references[key] = tech.reference(scene, value, size)
+                        references[key] = reference(scene, value, size)
                     rmse, max_err = errors(method.output(state, target, value, scene), references[key])
+                    extra = method.stats(state, target, value, scene) if method.stats else {}
                     rows.append(Row(tech.name, method.name, method.knob, float(value), scene_name, size[0], size[1],
-                                    ms, gpu_ms, runs, rmse, max_err))
+                                    ms, gpu_ms, runs, rmse, max_err, extra))
                     progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: "
                              f"{ms:8.2f} ms  rmse {rmse:.2e}  max {max_err:.2e}")
     finally:

@@ -13,12 +13,14 @@ from app.bench.harness import CSV_COLUMNS, Row
 from app.io.atomic import write_text
 
 ERROR_FLOOR = 1e-9  # zero error still needs a place on a log axis
-PALETTE = ("#4cc9f0", "#f72585", "#ffd166", "#06d6a0", "#b388ff", "#ff9f1c", "#8ecae6", "#ef476f")
+PALETTE = ("#4cc9f0", "#f72585", "#ffd166", "#06d6a0", "#b388ff", "#ff9f1c", "#8ecae6", "#ef476f",
+           "#90be6d", "#f8961e", "#c77dff", "#e9ecef")
 
 
 def write_csv(path: str | os.PathLike, rows: list[Row]) -> None:
     out = io.StringIO()
-    writer = csv.DictWriter(out, fieldnames=CSV_COLUMNS, lineterminator="\n")
+    extra = list(dict.fromkeys(k for row in rows for k in row.extra))
+    writer = csv.DictWriter(out, fieldnames=[*CSV_COLUMNS, *extra], lineterminator="\n")
     writer.writeheader()
     for row in rows:
         writer.writerow(row.as_csv())
@@ -41,12 +43,13 @@ def read_csv(path: str | os.PathLike) -> list[dict]:
 
 
 def curves(rows: list[dict], scene: str | None = None) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """method -> (ms, max error, knob) for one scene (the first one if None), sorted by knob."""
+    """method -> (ms, RMSE, knob) for one scene (the first one if None), sorted by knob. RMSE rather than
+    the max: one silhouette pixel sets the max for every method alike."""
     scene = scene or (rows[0]["scene"] if rows else None)
     grouped: dict[str, list[tuple[float, float, float]]] = defaultdict(list)
     for r in rows:
         if r["scene"] == scene:
-            grouped[r["method"]].append((r["knob"], r["ms_median"], max(r["max_abs_error"], ERROR_FLOOR)))
+            grouped[r["method"]].append((r["knob"], r["ms_median"], max(r["rmse"], ERROR_FLOOR)))
     result = {}
     for method, points in grouped.items():
         knob, ms, err = np.array(sorted(points)).T
@@ -55,7 +58,7 @@ def curves(rows: list[dict], scene: str | None = None) -> dict[str, tuple[np.nda
 
 
 def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> None:
-    """Fill two pyqtgraph PlotItems: max error against ms (log-log), and ms against the knob per scene."""
+    """Fill two pyqtgraph PlotItems: RMSE against ms (log-log), and ms against the knob per scene."""
     import pyqtgraph as pg
 
     for p in (error_plot, time_plot):
@@ -68,7 +71,7 @@ def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> N
         time_plot.getAxis(axis).enableAutoSIPrefix(False)
     error_plot.setLogMode(x=True, y=True)
     error_plot.setLabel("bottom", "frame time (ms)")
-    error_plot.setLabel("left", "max abs error (0..1)")
+    error_plot.setLabel("left", "RMSE (0..1)")
     error_plot.setTitle(f"Speed vs accuracy — {scene}")
     methods = sorted({r["method"] for r in rows})
     colours = {m: PALETTE[i % len(PALETTE)] for i, m in enumerate(methods)}

@@ -1,0 +1,92 @@
+"""Volume ray tracer bench (seed 003's Table 1 re-measured, and more).
+
+One method per mode; the knob is cl_steps (the shadow modes also scale cl_shadowSteps with it, as a
+user raising quality would). Each mode's reference is the CPU renderer (app/reference/volume.py) at
+2048 steps per unit. Every row also reports the texture samples per pixel (`samples_per_px`, counted
+by the shader itself), so the distance texture's effect shows without timing noise. Two cameras:
+the Cornell box seen through its open front (where empty-space skipping pays) and coords3d from a
+corner. Table 1 is the rows at cl_steps 128: frames/s = 1000 / ms_median.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from app.bench.harness import Method, Technique
+from app.gl.raytracer import RayTracer, TraceSettings
+from app.gl.shaders import ShaderLibrary
+from app.model.camera3d import OrbitCamera
+from app.model.render_modes import MODES
+from app.model.volume import Volume
+from app.model.volume_samples import coords3d, cornell_box
+from app.model.volume_view import VolumeView
+from app.reference.volume import render as reference_render
+from app.resources import SHADERS
+
+STEPS = (16, 32, 64, 128, 256)
+QUICK_STEPS = (32, 128)
+QUICK_MODES = (2, 4, 5, 7)
+REFERENCE_STEPS = 2048
+
+
+def _scene(name: str, side: int):
+    data = {"cornell": cornell_box, "coords3d": coords3d}[name](side)
+    camera = OrbitCamera(yaw=0, pitch=0, distance=3.4) if name == "cornell" else OrbitCamera(yaw=35, pitch=25)
+    return name, Volume(data), VolumeView(camera=camera)
+
+
+def _settings(mode: int, steps: float, **kw) -> TraceSettings:
+    return TraceSettings(mode=mode, steps=steps, shadow_steps=max(4, int(steps) // 6), slice_planes=False, **kw)
+
+
+class State:
+    def __init__(self, ctx) -> None:
+        self.ctx = ctx
+        self.tracer = RayTracer(ctx, ShaderLibrary(ctx, [SHADERS]))
+        self.count_fbo = None
+
+
+def _method(mode: int) -> Method:
+    def render(state: State, target, steps, scene) -> None:
+        _name, volume, view = scene
+        state.tracer.render(target.fbo, volume, view, _settings(mode, steps))
+
+    def output(state: State, target, steps, scene) -> np.ndarray:
+        render(state, target, steps, scene)
+        return target.read()[..., :3] / 255.0
+
+    def reference(scene, steps, size) -> np.ndarray:
+        return _reference(scene[0], scene[1].size[0], mode, size, tuple(np.array(scene[2].background) / 255))
+
+    def stats(state: State, target, steps, scene) -> dict:
+        if state.count_fbo is None or state.count_fbo.size != target.size:
+            state.count_fbo = state.ctx.framebuffer([state.ctx.renderbuffer(target.size, 4, dtype="f4")])
+        _name, volume, view = scene
+        state.tracer.render(state.count_fbo, volume, view, _settings(mode, steps, debug_samples=True))
+        counts = np.frombuffer(state.count_fbo.read(components=4, dtype="f4"), "f4")[0::4]
+        return {"samples_per_px": float(counts.mean())}
+
+    m = MODES[mode]
+    return Method(f"F{mode} {m.name}", "cl_steps", STEPS, State, render, output, QUICK_STEPS,
+                  reference=reference, stats=stats)
+
+
+@lru_cache(maxsize=None)
+def _reference(name: str, side: int, mode: int, size, background) -> np.ndarray:
+    _n, volume, view = _scene(name, side)
+    return reference_render(volume.data, view.camera, size, MODES[mode], steps=REFERENCE_STEPS,
+                            shadow_steps=REFERENCE_STEPS // 6, background=background)
+
+
+def technique(quick: bool = False) -> Technique:
+    side = 32 if quick else 64
+    return Technique(
+        name="volume",
+        methods=[_method(m) for m in (QUICK_MODES if quick else MODES)],
+        scenes={"cornell": _scene("cornell", side), "coords3d": _scene("coords3d", side)},
+        reference=lambda *_: None,  # every method brings its own (one per mode)
+        size=(128, 128),
+        quick_size=(64, 64),
+        quick_scenes=("cornell",),
+    )
