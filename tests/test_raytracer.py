@@ -116,3 +116,22 @@ def test_distance_skipping_takes_fewer_samples(gl, tracer):
     plain = gpu(gl, tracer, data, into, mode=5)
     skipped = gpu(gl, tracer, data, into, mode=7)
     assert np.abs(plain - skipped).max() <= 1 / 255 + 1e-9
+
+
+def test_distance_texture_clamps_after_an_edit_and_refines_when_idle(gl, tracer):
+    from app.gl.raytracer import DistanceTexture, distance_field
+
+    volume = Volume(cornell_box(32))
+    texture = DistanceTexture(gl)
+    texture.sync(volume)
+    volume.stroke("z", 16, 3, (255, 0, 0, 255), [(10, 10), (20, 12)])
+    texture.sync(volume)
+    exact = distance_field(volume.data)
+    gpu_field = np.frombuffer(texture.texture.read(), "f4").reshape(exact.shape)
+    assert texture.stale and (gpu_field <= exact + 1e-4).all()  # never more than the truth: skipping stays safe
+    assert (gpu_field[16, 11, 10:20] == 0).all()
+    volume.undo()  # erasing: the clamped field stays small, which is slower but still safe
+    texture.sync(volume)
+    assert texture.refine() and not texture.stale
+    np.testing.assert_allclose(np.frombuffer(texture.texture.read(), "f4").reshape(exact.shape),
+                               distance_field(volume.data))

@@ -37,25 +37,69 @@ class TraceSettings:
 
 
 class DistanceTexture:
-    """Distance (voxels) from every voxel to the nearest non-empty one, for empty-space skipping."""
+    """Distance (voxels) from every voxel to the nearest non-empty one, for empty-space skipping.
+
+    An edit does not rebuild it: distances are clamped at once to the distance from the edited box (an
+    edit can only bring a non-empty voxel there, so this never overstates a distance; an erased voxel
+    just keeps a smaller, safe value), and only the voxels that changed are uploaded. `refine()`, run when
+    the editor is idle, rebuilds the exact field."""
 
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.texture: moderngl.Texture3D | None = None
-        self.seen = (None, -1)  # (volume, version) the distances were computed for
+        self.field: np.ndarray | None = None
+        self.source = None
+        self.seen = -1
+        self.stale = False  # clamped since the last exact build
 
     def sync(self, volume) -> moderngl.Texture3D:
-        if self.seen[0] is not volume or self.seen[1] != volume.version:
-            distance = distance_field(volume.data)
-            if self.texture is None or self.texture.size != volume.size:
-                if self.texture is not None:
-                    self.texture.release()
-                self.texture = self.ctx.texture3d(volume.size, 1, distance, dtype="f4")
-                self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
+        if self.source is not volume or self.texture is None or self.texture.size != volume.size:
+            self.source = volume
+            self._rebuild(volume)
+        elif (box := volume.changed_since(self.seen)) is not None:
+            if box.shape == volume.size:
+                self._rebuild(volume)
             else:
-                self.texture.write(distance)
-            self.seen = (volume, volume.version)
+                self._clamp(box)
+        self.seen = volume.version
         return self.texture
+
+    def refine(self) -> bool:
+        """The exact field again after clamped edits; True if anything was done."""
+        if not self.stale or self.source is None:
+            return False
+        self._rebuild(self.source)
+        return True
+
+    def _rebuild(self, volume) -> None:
+        self.field = distance_field(volume.data)
+        if self.texture is None or self.texture.size != volume.size:
+            if self.texture is not None:
+                self.texture.release()
+            self.texture = self.ctx.texture3d(volume.size, 1, self.field, dtype="f4")
+            self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
+        else:
+            self.texture.write(self.field)
+        self.stale = False
+
+    def _clamp(self, box) -> None:
+        d, h, w = self.field.shape
+        gaps = [np.maximum(np.maximum(lo - np.arange(n), np.arange(n) - (hi - 1)), 0).astype("f4")
+                for lo, hi, n in ((box.z0, box.z1, d), (box.y0, box.y1, h), (box.x0, box.x1, w))]
+        to_box = np.sqrt(gaps[0][:, None, None] ** 2 + gaps[1][None, :, None] ** 2 + gaps[2][None, None, :] ** 2)
+        closer = to_box < self.field
+        if not closer.any():
+            return
+        np.minimum(self.field, to_box, out=self.field)
+        (z0, z1), (y0, y1), (x0, x1) = [_span(closer.any(axis=axes)) for axes in ((1, 2), (0, 2), (0, 1))]
+        part = np.ascontiguousarray(self.field[z0:z1, y0:y1, x0:x1])
+        self.texture.write(part, viewport=(x0, y0, z0, x1 - x0, y1 - y0, z1 - z0))
+        self.stale = True
+
+
+def _span(mask: np.ndarray) -> tuple[int, int]:
+    where = np.flatnonzero(mask)
+    return int(where[0]), int(where[-1]) + 1
 
 
 def distance_field(data: np.ndarray) -> np.ndarray:

@@ -5,6 +5,9 @@ import moderngl
 
 from app.gl.shaders import ShaderLibrary
 from app.gl.snowflake import SnowflakeRenderer
+from dataclasses import replace
+
+from app.gl.quality import LEVELS, QualityLadder, ReducedTarget
 from app.gl.raytracer import RayTracer, TraceSettings
 from app.model.render_modes import LIGHTS
 from app.resources import SHADERS
@@ -29,9 +32,15 @@ class WorkspaceRenderer:
         self.shaders = ShaderLibrary(ctx, [SHADERS], cache_dir=cache_dir, on_error=on_shader_error)
         self._snowflake: SnowflakeRenderer | None = None
         self._volume: RayTracer | None = None
+        self.ladder = QualityLadder()
+        self.level = 0  # the quality level of the last frame drawn
+        self._reduced: ReducedTarget | None = None
 
-    def render(self, editor, fbo: moderngl.Framebuffer) -> None:
-        """`editor` holds the models (app.editor.Editor); only attributes are read here."""
+    def render(self, editor, fbo: moderngl.Framebuffer, interactive: bool = False) -> bool:
+        """`editor` holds the models (app.editor.Editor); only attributes are read here. While the user
+        interacts, the volume is drawn at the most accurate level that fits `r_frameBudgetMs`. True when the
+        frame was reduced or work was put off, so the host should ask for a full frame once idle."""
+        self.level = 0
         if editor.workspace == "snowflake":
             if self._snowflake is None:
                 self._snowflake = SnowflakeRenderer(self.ctx, self.shaders)
@@ -39,7 +48,30 @@ class WorkspaceRenderer:
         elif editor.workspace == "volume":
             if self._volume is None:
                 self._volume = RayTracer(self.ctx, self.shaders)
-            self._volume.render(fbo, editor.volume, editor.volume_view, trace_settings(editor))
+            settings = trace_settings(editor)
+            budget = editor.console.registry.cvars["r_frameBudgetMs"].value
+            self.level = self.ladder.choose(budget) if interactive else 0
+            scale, step_factor = LEVELS[self.level]
+            if scale == 1.0:
+                self._volume.render(fbo, editor.volume, editor.volume_view, settings)
+            else:
+                if self._reduced is None:
+                    self._reduced = ReducedTarget(self.ctx, self.shaders)
+                cheap = replace(settings, steps=max(4.0, settings.steps * step_factor))
+                self._volume.render(self._reduced.framebuffer(fbo.size, scale), editor.volume, editor.volume_view,
+                                    cheap)
+                self._reduced.present(fbo)
+            return self.level > 0 or self._volume.distance.stale
         else:
             fbo.use()
             fbo.clear(*EMPTY_BACKGROUND)
+        return False
+
+    def frame_took(self, ms: float, interactive: bool) -> None:
+        """The host's measure of the frame just drawn: teaches the ladder what each level costs."""
+        if interactive:
+            self.ladder.record(self.level, ms)
+
+    def idle(self) -> bool:
+        """Work put off while the user interacted (the exact distance field); True if a redraw is due."""
+        return self._volume is not None and self._volume.distance.refine()

@@ -12,6 +12,8 @@ from app.gl.workspace_renderer import WorkspaceRenderer
 from app.views.keys import key_name
 
 SHADER_POLL_MS = 500
+INTERACTIVE_GAP = 0.25  # a frame asked for this soon after the last is part of an interaction
+IDLE_MS = 400           # then, once nothing moved for this long, a full-quality frame
 
 
 class Viewport(QOpenGLWidget):
@@ -34,6 +36,9 @@ class Viewport(QOpenGLWidget):
         self.setMouseTracking(True)
         self.setMinimumSize(320, 240)
         self._shader_timer = QTimer(self, interval=SHADER_POLL_MS, timeout=self.poll_shaders)
+        self._idle_timer = QTimer(self, singleShot=True, interval=IDLE_MS, timeout=self._idle)
+        self._last_frame = 0.0
+        self.interactive = False  # the last frame was a cheap one
 
     def initializeGL(self) -> None:
         self.ctx = moderngl.create_context()
@@ -43,17 +48,36 @@ class Viewport(QOpenGLWidget):
 
     def paintGL(self) -> None:
         start = time.perf_counter()
+        self.interactive = start - self._last_frame < INTERACTIVE_GAP and not self._refining
         fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
+        deferred = False
         try:
-            self.renderer.render(self.editor, fbo)
+            deferred = self.renderer.render(self.editor, fbo, self.interactive)
         except Exception as exc:  # e.g. a shader that never compiled: say so, keep the editor alive
             fbo.clear(0.3, 0.05, 0.05, 1.0)
             self.gl_error.emit(str(exc))
         self.ctx.finish()
-        ms = (time.perf_counter() - start) * 1e3
+        self._last_frame = time.perf_counter()
+        ms = (self._last_frame - start) * 1e3
+        self.renderer.frame_took(ms, self.interactive)
+        if deferred:
+            self._idle_timer.start()
+        self._refining = False
         self.frames += 1
         self.frame_ms.append(ms)
         self.frame_rendered.emit(ms)
+
+    _refining = False
+
+    def _idle(self) -> None:
+        """Nothing moved for a while: catch up on deferred work and draw at full quality."""
+        self.makeCurrent()
+        try:
+            self.renderer.idle()
+        finally:
+            self.doneCurrent()
+        self._refining = True
+        self.update()
 
     def average_fps(self) -> float:
         """Frames per second the recent frames would sustain (Tex3Dtrace's statistic)."""
