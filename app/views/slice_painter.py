@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import QColor, QImage, QPainter, QPen
+from PySide6.QtGui import QBrush, QColor, QImage, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QHBoxLayout, QLabel, QPushButton, QSpinBox,
                                QToolButton, QVBoxLayout, QWidget)
 
@@ -36,6 +36,7 @@ class SliceCanvas(QWidget):
         self.points: list[tuple[int, int]] = []
         self.hover: tuple[int, int] | None = None
         self._zoom_drag: tuple[float, float] | None = None
+        self._checker: QBrush | None = None
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMinimumSize(200, 200)
@@ -89,20 +90,16 @@ class SliceCanvas(QWidget):
         painter.end()
 
     def _checkerboard(self, painter: QPainter, target: QRectF) -> None:
-        painter.fillRect(target, QColor(70, 72, 80))
-        cell = max(self.zoom, 8.0)
-        painter.save()
-        painter.setClipRect(target)
-        y = target.top()
-        row = 0
-        while y < target.bottom():
-            x = target.left() + (row % 2) * cell
-            while x < target.right():
-                painter.fillRect(QRectF(x, y, cell, cell), QColor(92, 94, 104))
-                x += 2 * cell
-            y += cell
-            row += 1
-        painter.restore()
+        """Transparency shows as a checkerboard: one tiled brush, not a fill per cell."""
+        if self._checker is None:
+            tile = QPixmap(16, 16)
+            tile.fill(QColor(70, 72, 80))
+            p = QPainter(tile)
+            p.fillRect(0, 0, 8, 8, QColor(92, 94, 104))
+            p.fillRect(8, 8, 8, 8, QColor(92, 94, 104))
+            p.end()
+            self._checker = QBrush(tile)
+        painter.fillRect(target, self._checker)
 
     def _brush_outline(self, painter: QPainter) -> None:
         size = self.editor.console.registry.cvars["brush_size"].value if self.tool == "brush" else 1
@@ -253,6 +250,10 @@ class SlicePainter(QWidget):
         if shape != getattr(self, "_shape", None):
             self.canvas.zoom = 0  # refit: another axis, a new or rotated volume
             self._shape = shape
+        shown = (vol.version, view.axis, view.index, view.brush, cvars["brush_size"].value, cvars["brush_round"].value)
+        if shown == getattr(self, "_shown", None):
+            return  # an orbit or another view change: nothing here to redraw
+        self._shown = shown
         r, g, b, a = view.brush
         self.colour.setText(f"#{r:02x}{g:02x}{b:02x} α{a}")
         self.colour.setStyleSheet(f"background: rgba({r},{g},{b},{a}); color: {'black' if r + g + b > 380 else 'white'}")
