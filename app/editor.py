@@ -82,7 +82,8 @@ class Editor:
         lines += [f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
                   f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
                   f"vol.background {' '.join(map(str, v.background))}"]
-        lines += [f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}"]
+        lines += [f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}",
+                  f"stereo {int(v.stereo)}", f"magnify {int(v.magnify)}", f"wireframe {int(v.wireframe)}"]
         lines += ["snow.clear"]
         lines += [f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes]
         lines += [f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]

@@ -135,3 +135,48 @@ def test_distance_texture_clamps_after_an_edit_and_refines_when_idle(gl, tracer)
     assert texture.refine() and not texture.stale
     np.testing.assert_allclose(np.frombuffer(texture.texture.read(), "f4").reshape(exact.shape),
                                distance_field(volume.data))
+
+
+def rmse(a, b):
+    return float(np.sqrt(((a - b) ** 2).mean()))
+
+
+def test_shadow_offset_near_the_surface(gl, tracer):
+    """The seed's defect: starting shadow rays on the surface shadows the surface itself (acne)."""
+    data = cornell_box(32)
+    truth = cpu(data, VIEW, 5)
+    on_surface = rmse(gpu(gl, tracer, data, VIEW, mode=5, shadow_offset=0.0), truth)
+    offset = rmse(gpu(gl, tracer, data, VIEW, mode=5), truth)
+    assert on_surface > 2 * offset
+
+
+def test_too_large_distance_multiplier_skips_surfaces(gl, tracer):
+    """The seed's defect: a distance multiplier over 1 steps past thin walls the distance texture allowed for."""
+    data = cornell_box(48)
+    into = VolumeView(camera=OrbitCamera(yaw=15, pitch=10, distance=3.2))
+    truth = cpu(data, into, 7)
+    safe = rmse(gpu(gl, tracer, data, into, mode=7, distance_scale=1.0), truth)
+    reckless = rmse(gpu(gl, tracer, data, into, mode=7, distance_scale=6.0), truth)
+    assert reckless > safe + 0.01
+
+
+def test_stereo_magnify_and_wireframe(gl, tracer):
+    data = coords3d(16)
+    plain = gpu(gl, tracer, data, VIEW, mode=2)
+    left_right = gpu(gl, tracer, data, VolumeView(camera=VIEW.camera, stereo=True), mode=2)
+    assert np.isfinite(left_right).all() and not np.array_equal(plain, left_right)
+    near = gpu(gl, tracer, data, VolumeView(camera=VIEW.camera, magnify=True), mode=2)
+    bg = np.array(VIEW.background) / 255
+    covered = lambda img: (np.abs(img - bg).sum(-1) > 0.02).mean()  # noqa: E731
+    assert covered(near) > 2 * covered(plain)
+    edges = gpu(gl, tracer, data, VolumeView(camera=VIEW.camera, wireframe=True), mode=2)
+    assert (np.abs(edges - plain).sum(-1) > 0.1).sum() > 50
+
+
+def test_non_cube_two_pass_matches_one_pass(gl, tracer):
+    data = np.ascontiguousarray(coords3d(16)[:8])  # 16 x 16 x 8: the box is not a cube
+    data[..., 3] = 90  # translucent, so every ray's whole length counts
+    two = gpu(gl, tracer, data, VIEW, mode=1)
+    one = gpu(gl, tracer, data, VIEW, mode=4)
+    assert np.abs(two - one).max() <= 2 / 255
+    assert rmse(one, cpu(data, VIEW, 4)) < 0.01

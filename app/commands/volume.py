@@ -215,6 +215,22 @@ def register(editor: "Editor") -> None:
     def shadows(on: int | None = None) -> None:
         view.shadows = (not view.shadows) if on is None else bool(on)
 
+    def flag(name: str, attribute: str, text: str) -> None:
+        @reg.command(name, "[on:int]", text)
+        def toggle(on: int | None = None) -> None:
+            setattr(view, attribute, (not getattr(view, attribute)) if on is None else bool(on))
+
+    flag("stereo", "stereo", "Anaglyph stereo, red/cyan (key t toggles)")
+    flag("magnify", "magnify", "Twice the magnification (key x toggles)")
+    flag("wireframe", "wireframe", "Draw the box's edges (key f toggles)")
+
+    @reg.command("quality.next", "", "Step cl_steps through 32, 64, 128, 256, 512 (key k)")
+    def quality_next() -> None:
+        ladder = (32, 64, 128, 256, 512)
+        steps = reg.cvars["cl_steps"]
+        steps.set(str(next((s for s in ladder if s > steps.value), ladder[0])))
+        console.print(f"cl_steps {steps.value}")
+
     @reg.command("light", "x:float y:float z:float", "Place the first light (world units; key z moves it)")
     def light(x: float, y: float, z: float) -> None:
         view.light = (x, y, z)

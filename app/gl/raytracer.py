@@ -1,7 +1,7 @@
 """The volume ray tracer: every Tex3Dtrace mode (app/model/render_modes.py), one pass or two."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -17,10 +17,13 @@ EDITED_SLICE = (0.35, 0.85, 1.0, 0.10)   # faint: where the painter works
 PICKED_SLICE = (1.0, 0.85, 0.2, 0.35)    # the slice picker's hovered slice
 KIND = {"translucent": 0, "pure": 1, "phong": 2}
 SHADOWS = {"none": 0, "constant": 1, "correct": 2}
-# Box corners and the 12 triangles of its faces, counter-clockwise seen from outside.
+# Box corners, the 12 triangles of its faces (counter-clockwise seen from outside) and its 12 edges.
 CORNERS = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], dtype="f4")
 FACES = np.array([0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7,
                   0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5], dtype="i4")
+EDGES = np.array([0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7], dtype="i4")
+WIREFRAME = (0.85, 0.87, 0.92, 1.0)
+LEFT_EYE, RIGHT_EYE, ALL = (True, False, False, True), (False, True, True, True), (True, True, True, True)
 
 
 @dataclass(frozen=True)
@@ -34,6 +37,8 @@ class TraceSettings:
     lights: tuple = rm.LIGHTS
     debug_samples: bool = False  # output each pixel's texture-sample count (a float target is needed)
     slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
+    shadow_offset: float = rm.SHADOW_OFFSET
+    eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
 
 
 class DistanceTexture:
@@ -118,17 +123,41 @@ class RayTracer:
         self.nearest = ctx.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), repeat_x=False, repeat_y=False,
                                    repeat_z=False)
         self.cube = ctx.buffer(CORNERS[FACES].tobytes())
+        self.edges = ctx.buffer(CORNERS[EDGES].tobytes())
+        self._edges = VertexArrays(lambda program: ctx.vertex_array(program, [(self.edges, "3f", "in_position")]))
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._box = VertexArrays(lambda program: ctx.vertex_array(program, [(self.cube, "3f", "in_position")]))
         self._entry: tuple | None = None  # (size, texture, framebuffer) of the two-pass setup
 
     def render(self, fbo: moderngl.Framebuffer, volume, view: VolumeView, settings: TraceSettings) -> None:
+        """Key x magnifies, t draws an anaglyph pair (red: left eye; green and blue: right), f the edges."""
+        cam = replace(view.camera, fov=view.camera.fov / 2) if view.magnify else view.camera
+        if view.stereo:
+            for shift, mask in ((-settings.eye_distance / 2, LEFT_EYE), (settings.eye_distance / 2, RIGHT_EYE)):
+                fbo.color_mask = mask
+                self._render(fbo, volume, view, replace(cam, shift=shift), settings)
+            fbo.color_mask = ALL
+        else:
+            self._render(fbo, volume, view, cam, settings)
+        if view.wireframe:
+            self._wireframe(fbo, volume, cam)
+
+    def _wireframe(self, fbo: moderngl.Framebuffer, volume, cam) -> None:
+        w, h = fbo.size
+        program = self.shaders.program("box_edges")
+        view_proj = cam.projection(w / max(h, 1)) @ cam.view()
+        self._set(program, {"u_view_proj": tuple(view_proj.T.flatten()), "u_color": WIREFRAME,
+                            "u_extent": box_extents(volume.size)})
+        fbo.use()
+        self._edges.get(program).render(moderngl.LINES)
+
+    def _render(self, fbo: moderngl.Framebuffer, volume, view: VolumeView, cam, settings: TraceSettings) -> None:
         mode = rm.MODES[settings.mode]
         w, h = fbo.size
-        cam = view.camera
         view_proj = cam.projection(w / max(h, 1)) @ cam.view()
         extent = np.array(box_extents(volume.size), dtype="f4")
         uniforms = self._uniforms(volume, view, settings, mode, extent)
+        uniforms["u_eye"] = tuple(cam.position())
         self.volume.sync(volume).use(0)
         self.volume.texture.use(1)
         self.nearest.use(1)
@@ -142,7 +171,7 @@ class RayTracer:
             uniforms.update(u_entry=3, u_view_proj=tuple(view_proj.T.flatten()))
             self._set(program, uniforms)
             fbo.use()
-            fbo.clear(*background, 1.0)
+            fbo.clear(*background, 1.0)  # within the colour mask: a stereo pair's first eye stays
             self.ctx.enable(moderngl.CULL_FACE)
             self.ctx.front_face = "cw"  # draw only the back faces: every ray's exit
             self._box.get(program).render(moderngl.TRIANGLES)
@@ -181,7 +210,7 @@ class RayTracer:
             planes = [("", 0, EDITED_SLICE), ("", 0, PICKED_SLICE)]
         lights = [tuple(map(float, p)) for p in s.lights[:2]] + [(0.0, 0.0, 0.0)] * (2 - len(s.lights[:2]))
         return {
-            "u_eye": tuple(view.camera.position()),
+            "u_shadow_offset": float(s.shadow_offset),
             "u_extent": tuple(extent),
             "u_voxels": tuple(float(v) for v in volume.size),
             "u_voxel": 2.0 / max(volume.size),

@@ -15,6 +15,7 @@ class OrbitCamera:
     pitch: float = 18.0
     distance: float = 5.2  # the whole [-1, 1] box fits the 40-degree view
     fov: float = 40.0  # vertical, degrees
+    shift: float = 0.0  # sideways along the camera's right, world units (one eye of a stereo pair)
 
     def __post_init__(self) -> None:
         if not all(math.isfinite(v) for v in (self.yaw, self.pitch, self.distance, self.fov)):
@@ -24,18 +25,25 @@ class OrbitCamera:
         if not abs(self.pitch) <= PITCH_LIMIT:
             raise ValueError(f"pitch must be within -{PITCH_LIMIT:g}..{PITCH_LIMIT:g}, got {self.pitch:g}")
 
-    def position(self) -> np.ndarray:
+    def _orbit(self) -> np.ndarray:
         yaw, pitch = math.radians(self.yaw), math.radians(self.pitch)
         return self.distance * np.array([math.cos(pitch) * math.sin(yaw), math.sin(pitch),
                                          math.cos(pitch) * math.cos(yaw)])
 
-    def view(self) -> np.ndarray:
-        """World -> camera (4x4, row-major numpy), looking at the origin with +y up."""
-        eye = self.position()
-        forward = -eye / np.linalg.norm(eye)
+    def _axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        forward = -self._orbit() / self.distance
         right = np.cross(forward, [0.0, 1.0, 0.0])
         right /= np.linalg.norm(right)
-        up = np.cross(right, forward)
+        return forward, right, np.cross(right, forward)
+
+    def position(self) -> np.ndarray:
+        return self._orbit() + self._axes()[1] * self.shift
+
+    def view(self) -> np.ndarray:
+        """World -> camera (4x4, row-major numpy): looking along the orbit's direction with +y up (a
+        shifted eye looks parallel to the other, as anaglyph pairs do)."""
+        eye = self.position()
+        forward, right, up = self._axes()
         m = np.identity(4)
         m[0, :3], m[1, :3], m[2, :3] = right, up, -forward
         m[:3, 3] = -m[:3, :3] @ eye

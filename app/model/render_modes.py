@@ -8,11 +8,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 THRESHOLD = 0.3      # a surface: the first sample whose intensity exceeds this (of 3)
-AMBIENT = 0.15       # the seed's 10-20 % ambient
+AMBIENT = 0.2        # the seed's 10-20 % ambient
 DIFFUSE = 0.85
 SPECULAR = 0.35
 SHININESS = 24.0
-ATTENUATION = 0.04   # 1 / (1 + k d^2), d in world units
+ATTENUATION = 0.02   # 1 / (1 + k d^2), d in world units
 SHADOW_OFFSET = 1.5  # voxels along the normal before a shadow ray starts (the seed's offset)
 REFINE = 5           # bisection steps that place a hit between its sample and the one before
 LIGHTS = ((0.4, 0.7, 2.6), (-2.5, 1.5, 1.5))  # world positions, in front: into the open Cornell box

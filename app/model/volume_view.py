@@ -17,11 +17,14 @@ class VolumeView:
     mode: int = 5                 # Tex3Dtrace's F-key mode (app/model/render_modes.py)
     shadows: bool = True          # key l
     light: tuple[float, float, float] = (0.4, 0.7, 2.6)  # the first light; key z moves it
+    stereo: bool = False          # key t: red from the left eye, green and blue from the right
+    magnify: bool = False         # key x: twice the magnification
+    wireframe: bool = False       # key f: the box's edges
 
     def key(self) -> tuple:
         c = self.camera
         return (c.yaw, c.pitch, c.distance, self.background, self.axis, self.index, self.highlight, self.brush,
-                self.mode, self.shadows, self.light)
+                self.mode, self.shadows, self.light, self.stereo, self.magnify, self.wireframe)
 
 
 def box_extents(size: tuple[int, int, int]) -> tuple[float, float, float]:

@@ -18,7 +18,8 @@ FLIP = np.array([1.0, -1.0, -1.0])  # world -> index axes: y down, z away
 class Scene:
     """The volume as float RGBA and intensity, with its box, for one reference render."""
 
-    def __init__(self, data: np.ndarray, sample_range: float = 1.0) -> None:
+    def __init__(self, data: np.ndarray, sample_range: float = 1.0, shadow_offset: float = rm.SHADOW_OFFSET) -> None:
+        self.shadow_offset = shadow_offset
         self.rgba = data.astype(np.float64) / 255.0                  # (d, h, w, 4)
         self.size = np.array(data.shape[2::-1], dtype=np.float64)    # (w, h, d)
         self.extent = np.array(box_extents(tuple(int(s) for s in self.size)))
@@ -99,7 +100,7 @@ def _normal(scene: Scene, t: np.ndarray, view_dir: np.ndarray) -> np.ndarray:
 def _shadow(scene: Scene, p: np.ndarray, n: np.ndarray, light: np.ndarray, mode: rm.Mode,
             steps: float, shadow_steps: int) -> np.ndarray:
     """1 where the light reaches p, 0 where a sample over the threshold lies between."""
-    start = p + n * rm.SHADOW_OFFSET * scene.voxel
+    start = p + n * scene.shadow_offset * scene.voxel
     to_light = light - start
     dist = np.linalg.norm(to_light, axis=-1)
     direction = to_light / dist[:, None]
@@ -141,10 +142,10 @@ def _phong(scene: Scene, t: np.ndarray, s: np.ndarray, view_dir: np.ndarray, mod
 
 def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: rm.Mode, steps: float,
            shadow_steps: int = 20, sample_range: float = 1.0, background=(0.0, 0.0, 0.0),
-           lights=rm.LIGHTS, shadows: bool = True) -> np.ndarray:
+           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET) -> np.ndarray:
     """The image (height, width, 3), floats 0..1, top row first."""
     w, h = size
-    scene = Scene(data, sample_range)
+    scene = Scene(data, sample_range, shadow_offset)
     inv = np.linalg.inv(camera.projection(w / h) @ camera.view())
     px, py = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
     ndc = np.stack([2 * px / w - 1, 1 - 2 * py / h, np.ones_like(px), np.ones_like(px)], -1).reshape(-1, 4)
@@ -205,7 +206,7 @@ def _reflection(scene: Scene, t: np.ndarray, d: np.ndarray, steps: float, backgr
     """The pure colour seen along the view ray mirrored about the normal (one bounce)."""
     n = _normal(scene, t, d)
     r = d - 2.0 * (d * n).sum(-1, keepdims=True) * n
-    p = (t * 2.0 - 1.0) * scene.extent * FLIP + n * rm.SHADOW_OFFSET * scene.voxel
+    p = (t * 2.0 - 1.0) * scene.extent * FLIP + n * scene.shadow_offset * scene.voxel
     near, far = scene.box(p, r)
     out = np.tile(background, (len(t), 1))
     inside = np.flatnonzero(near < far)
