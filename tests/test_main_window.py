@@ -123,7 +123,7 @@ def test_panel_slider_sends_a_command(window):
     assert inputs(window)[-1] == "] snow.level 3"
 
 
-@pytest.mark.parametrize("workspace, technique", [("snowflake", "snowflake"), ("volume", "paint")])
+@pytest.mark.parametrize("workspace, technique", [("snowflake", "snowflake"), ("volume", "volume")])
 def test_bench_dock_shows_the_workspace_technique(window, workspace, technique):
     window.run(f"workspace {workspace}")
     assert window.bench.technique == technique and window.bench.run_button.isEnabled()

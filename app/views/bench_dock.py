@@ -16,7 +16,7 @@ def bench_dir() -> Path:
     return default_cache_dir().parent / "bench"
 
 
-TECHNIQUE_OF = {"snowflake": "snowflake", "volume": "paint"}  # the workspace's measured technique
+TECHNIQUE_OF = {"snowflake": "snowflake", "volume": "volume"}  # the workspace's measured technique
 
 
 class BenchDock(QWidget):
