@@ -40,6 +40,7 @@ class Technique:
     quick_size: tuple[int, int] = (256, 256)
     quick_scenes: Sequence[str] | None = None
     notes: list[str] = field(default_factory=list)
+    extra_rows: Callable[[bool, tuple[int, int], int, Callable[[str], None]], list] | None = None  # peers' rows
 
 
 @dataclass
@@ -117,4 +118,6 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
                              f"{ms:8.2f} ms  rmse {rmse:.2e}  max {max_err:.2e}")
     finally:
         target.release()
+    if tech.extra_rows is not None:
+        rows += tech.extra_rows(quick, size, runs, progress)
     return rows

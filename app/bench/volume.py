@@ -31,6 +31,8 @@ REFERENCE_STEPS = 2048
 
 
 def _scene(name: str, side: int):
+    if name == "cornell grey":
+        return grey_scene(side)[:3]
     data = {"cornell": cornell_box, "coords3d": coords3d}[name](side)
     camera = OrbitCamera(yaw=0, pitch=0, distance=3.4) if name == "cornell" else OrbitCamera(yaw=35, pitch=25)
     return name, Volume(data), VolumeView(camera=camera)
@@ -81,12 +83,79 @@ def _reference(name: str, side: int, mode: int, size, background) -> np.ndarray:
 
 def technique(quick: bool = False) -> Technique:
     side = 32 if quick else 64
+    scenes = {name: _scene(name, side) for name in ("cornell", "coords3d", "cornell grey")}
     return Technique(
         name="volume",
         methods=[_method(m) for m in (QUICK_MODES if quick else MODES)],
-        scenes={"cornell": _scene("cornell", side), "coords3d": _scene("coords3d", side)},
+        scenes=scenes,
         reference=lambda *_: None,  # every method brings its own (one per mode)
         size=(128, 128),
         quick_size=(64, 64),
-        quick_scenes=("cornell",),
+        quick_scenes=("cornell",) if not vispy_available() else ("cornell", "cornell grey"),
+        extra_rows=vispy_rows if vispy_available() else None,
     )
+
+
+# --- vispy, an optional extra: the same volume and camera drawn by vispy's Volume visual -----------
+
+VISPY_METHODS = {"average": 4, "iso": 2}  # vispy's method -> our closest mode (mean along the ray; first hit)
+
+
+def vispy_available() -> bool:
+    import importlib.util
+
+    return all(importlib.util.find_spec(m) is not None for m in ("vispy", "OpenGL"))
+
+
+def grey_scene(side: int):
+    """The Cornell box as grey levels, on black: a scalar volume for vispy and its RGBA twin for us."""
+    rgba = cornell_box(side)
+    grey = (rgba[..., :3].astype(np.float32).mean(-1) / 255.0) * (rgba[..., 3] > 0)
+    twin = np.zeros_like(rgba)
+    twin[..., :3] = np.round(grey * 255)[..., None].astype(np.uint8)
+    twin[..., 3] = np.where(grey > 0, 255, 0)
+    return "cornell grey", Volume(twin), VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=3.4),
+                                                    background=(0, 0, 0)), grey.astype(np.float32)
+
+
+def vispy_rows(quick: bool, size: tuple[int, int], runs: int, progress) -> list:
+    """Rows for vispy's methods, each against our reference of its closest mode (our modes also run on
+    this scene, so the CSV compares like with like)."""
+    import os
+    import subprocess
+    import sys
+    import tempfile
+
+    from app.bench.harness import Row, errors
+
+    side = 32 if quick else 64
+    name, volume, view, grey = grey_scene(side)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for method, mode in VISPY_METHODS.items():
+            truth = _grey_reference(side, mode, size)
+            for steps in QUICK_STEPS if quick else STEPS:
+                job, out = os.path.join(tmp, "job.npz"), os.path.join(tmp, "out.npz")
+                cam = view.camera
+                np.savez(job, volume=grey, size=np.array(size), method=method, threshold=0.1,
+                         step=side / steps, yaw=cam.yaw, pitch=cam.pitch, distance=cam.distance, runs=runs)
+                env = {**os.environ, "EGL_PLATFORM": "surfaceless"}
+                done = subprocess.run([sys.executable, "-m", "app.bench.vispy_peer", job, out], env=env,
+                                      capture_output=True, text=True, timeout=300)
+                if done.returncode != 0:
+                    progress(f"vispy {method}: failed: {done.stderr.strip().splitlines()[-1:]}")
+                    return rows
+                result = np.load(out)
+                rmse, max_err = errors(result["image"] / 255.0, truth)
+                rows.append(Row("volume", f"vispy {method}", "cl_steps", float(steps), name, size[0], size[1],
+                                float(result["ms"]), float("nan"), runs, rmse, max_err))
+                progress(f"vispy {method:>8} {name} cl_steps={steps}: {float(result['ms']):8.2f} ms  "
+                         f"rmse {rmse:.2e}  max {max_err:.2e}")
+    return rows
+
+
+@lru_cache(maxsize=None)
+def _grey_reference(side: int, mode: int, size) -> np.ndarray:
+    _n, volume, view, _grey = grey_scene(side)
+    return reference_render(volume.data, view.camera, size, MODES[mode], steps=REFERENCE_STEPS,
+                            background=(0.0, 0.0, 0.0))
