@@ -1,0 +1,31 @@
+"""vispy's Volume visual sees the same volume from the same camera as our ray tracer (bench extra;
+skipped where the optional 'peers' packages are not installed)."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("vispy")
+pytest.importorskip("OpenGL")
+
+
+def test_vispy_average_matches_our_translucent_mean_in_place(tmp_path):
+    from app.bench.volume import grey_scene
+
+    name, volume, view, grey = grey_scene(32)
+    job, out = tmp_path / "job.npz", tmp_path / "out.npz"
+    cam = view.camera
+    np.savez(job, volume=grey, size=np.array((64, 64)), method="average", threshold=0.1, step=0.25,
+             yaw=cam.yaw, pitch=cam.pitch, distance=cam.distance, runs=1)
+    done = subprocess.run([sys.executable, "-m", "app.bench.vispy_peer", str(job), str(out)], timeout=120,
+                          env={**os.environ, "EGL_PLATFORM": "surfaceless"}, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    image = np.load(out)["image"].astype(float)
+    from app.model.render_modes import MODES
+    from app.reference.volume import render
+
+    ours = render(volume.data, cam, (64, 64), MODES[4], steps=256) * 255
+    covered_vispy, covered_ours = image.sum(-1) > 3, ours.sum(-1) > 3
+    assert (covered_vispy != covered_ours).mean() < 0.05  # the same box in the same place
