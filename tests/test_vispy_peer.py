@@ -14,9 +14,11 @@ pytest.importorskip("OpenGL")
 def test_vispy_average_matches_our_translucent_mean_in_place(tmp_path):
     from app.bench.volume import grey_scene
 
+    from app.model.camera3d import OrbitCamera
+
     name, volume, view, grey = grey_scene(32)
     job, out = tmp_path / "job.npz", tmp_path / "out.npz"
-    cam = view.camera
+    cam = OrbitCamera(yaw=20, pitch=15, distance=5.2)  # the whole box in view, seen from a corner
     np.savez(job, volume=grey, size=np.array((64, 64)), method="average", threshold=0.1, step=0.25,
              yaw=cam.yaw, pitch=cam.pitch, distance=cam.distance, runs=1)
     done = subprocess.run([sys.executable, "-m", "app.bench.vispy_peer", str(job), str(out)], timeout=120,
