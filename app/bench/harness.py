@@ -39,7 +39,6 @@ class Technique:
     size: tuple[int, int] = (512, 512)
     quick_size: tuple[int, int] = (256, 256)
     quick_scenes: Sequence[str] | None = None
-    notes: list[str] = field(default_factory=list)
     extra_rows: Callable[[bool, tuple[int, int], int, Callable[[str], None]], list] | None = None  # peers' rows
 
 

@@ -78,5 +78,4 @@ def technique(quick: bool = False) -> Technique:  # the harness picks the quick 
         scenes={"1 flake": grid_scene(1), "16 flakes": grid_scene(16), "64 flakes": grid_scene(64)},
         reference=_reference,
         quick_scenes=("1 flake", "16 flakes"),
-        notes=["errors are segment end-point distances over the view height"],
     )
