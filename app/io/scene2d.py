@@ -1,0 +1,66 @@
+"""2D lighting scene JSON (docs/lighting2d.md): checked whole before the model is touched; saved atomically."""
+from __future__ import annotations
+
+import json
+import os
+
+from app.io.atomic import write_text
+from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D
+
+FORMAT = "shadelab.lighting2d"
+VERSION = 1
+LIGHT_KEYS = ("kind", "position", "origin", "rotation", "scale", "color", "intensity", "radius", "enabled",
+              "casts_shadows", "shadow_type", "cone_decay", "height", "texture", "ignored_hulls")
+HULL_KEYS = ("points", "position", "origin", "rotation", "scale", "enabled")
+
+
+def load(path: str | os.PathLike) -> Scene2D:
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except OSError as exc:
+        raise Lighting2DError(f"cannot read {path}: {exc.strerror}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise Lighting2DError(f"{path} is not valid JSON: {exc}") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise Lighting2DError(f"{path} is not a {FORMAT} file")
+    if data.get("version") != VERSION:
+        raise Lighting2DError(f"{path}: unsupported version {data.get('version')!r} (this build reads {VERSION})")
+    try:
+        lights = [_make(Light, item, LIGHT_KEYS, f"light {i}") for i, item in enumerate(data.get("lights", []))]
+        hulls = [_make(Hull, item, HULL_KEYS, f"hull {i}") for i, item in enumerate(data.get("hulls", []))]
+        return Scene2D(ambient=data.get("ambient", (0.15, 0.15, 0.18)), lights=lights, hulls=hulls)
+    except Lighting2DError as exc:
+        raise Lighting2DError(f"{path}: {exc}") from None
+
+
+def _make(kind, item, keys: tuple[str, ...], what: str):
+    if not isinstance(item, dict):
+        raise Lighting2DError(f"{what} must be an object")
+    unknown = set(item) - set(keys)
+    if unknown:
+        raise Lighting2DError(f"{what} has unknown keys: {', '.join(sorted(unknown))}")
+    try:
+        return kind(**item)
+    except Lighting2DError as exc:
+        raise Lighting2DError(f"{what}: {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise Lighting2DError(f"{what} is invalid: {exc}") from None
+
+
+def dumps(scene: Scene2D) -> str:
+    data = {
+        "format": FORMAT,
+        "version": VERSION,
+        "ambient": list(scene.ambient),
+        "lights": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(light).items()}
+                   for light in scene.lights],
+        "hulls": [{"points": hull.points.tolist(), "position": list(hull.position), "origin": list(hull.origin),
+                   "rotation": hull.rotation, "scale": list(hull.scale), "enabled": hull.enabled}
+                  for hull in scene.hulls],
+    }
+    return json.dumps(data, indent=2) + "\n"
+
+
+def save(path: str | os.PathLike, scene: Scene2D) -> None:
+    write_text(path, dumps(scene))

@@ -1,0 +1,107 @@
+"""The 2D lighting model: constraints, hull validity and winding, transforms, and the scene file."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from app.io import scene2d
+from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D, signed_area, validity
+
+SQUARE = [(0, 0), (1, 0), (1, 1), (0, 1)]
+
+
+def star(n: int, r1: float = 1.0, r2: float = 0.4) -> np.ndarray:
+    a = np.arange(2 * n) * math.pi / n
+    r = np.where(np.arange(2 * n) % 2 == 0, r1, r2)
+    return np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
+
+
+@pytest.mark.parametrize("points, needle", [
+    ([(0, 0), (1, 1)], "at least 3 points"),
+    ([(0, 0), (1, 1), (2, 2)], "collinear"),
+    ([(0, 0), (1, 1), (1, 0), (0, 1)], "cross"),             # a bow tie
+    ([(0, 0), (2, 0), (2, 2), (1, -1), (0, 2)], "cross"),
+])
+def test_invalid_hulls_are_marked_with_the_reason(points, needle):
+    hull = Hull(points)
+    assert not hull.valid and needle in hull.invalid_reason
+
+
+def test_valid_hulls_and_winding_normalised():
+    cw = Hull(SQUARE[::-1])
+    assert cw.valid and signed_area(cw.points) > 0
+    assert Hull(star(500)).valid  # 1,000 vertices, concave
+    big = Hull(np.array(SQUARE) * 10 + 1e6)
+    assert big.valid and validity(big.points) is None  # coordinates near 1e6
+
+
+def test_editing_points_moves_a_hull_between_valid_and_invalid():
+    hull = Hull(SQUARE)
+    hull.set_points([(0, 0), (1, 1), (1, 0), (0, 1)])
+    assert not hull.valid
+    hull.set_points(SQUARE)
+    assert hull.valid
+
+
+def test_world_transform_and_dirty_flag():
+    hull = Hull(SQUARE, position=(10, 5), origin=(0.5, 0.5), rotation=math.pi / 2, scale=(2, 2))
+    world = hull.world()
+    assert world is hull.world()  # cached until something changes
+    np.testing.assert_allclose(world.mean(axis=0), (10, 5), atol=1e-12)
+    np.testing.assert_allclose(world[0], (11, 4), atol=1e-12)  # (-1, -1) turned a quarter: (1, -1)
+    hull.set_transform((0, 0), (0, 0), 0.0, (1, 1))
+    np.testing.assert_allclose(hull.world(), hull.points)
+    assert hull.contains(0.5, 0.5) and not hull.contains(1.5, 0.5)
+
+
+@pytest.mark.parametrize("kwargs, needle", [
+    (dict(radius=-1), "radius must be >= 0"),
+    (dict(intensity=-0.5), "intensity must be >= 0"),
+    (dict(scale=(-1, 2)), "scale must be >= 0"),
+    (dict(cone_decay=-1), "cone decay must be >= 0"),
+    (dict(color=(1, 2, 0)), "within 0..1"),
+    (dict(kind="laser"), "light kind"),
+    (dict(shadow_type="dark"), "shadow type"),
+    (dict(kind="textured"), "needs a texture"),
+    (dict(position=(math.nan, 0)), "must be finite"),
+])
+def test_light_constraints_refused_with_a_message(kwargs, needle):
+    with pytest.raises(Lighting2DError, match=needle):
+        Light(**kwargs)
+
+
+def test_hull_scale_refused():
+    with pytest.raises(Lighting2DError, match="hull scale must be >= 0"):
+        Hull(SQUARE, scale=(1, -1))
+
+
+def test_spot_cone_angle_from_the_quad():
+    spot = Light(kind="spot", scale=(100, 200))
+    assert spot.cone_half_angle() == pytest.approx(0.5 * (math.pi - 2 * math.atan(1.0)))
+
+
+def test_scene_round_trip(tmp_path):
+    scene = Scene2D(lights=[Light(position=(3, 4), radius=12, shadow_type="illuminated", ignored_hulls=(1,)),
+                            Light(kind="spot", color=(1, 0.5, 0.25), cone_decay=2)],
+                    hulls=[Hull(SQUARE, position=(5, 5)), Hull(star(5), rotation=0.3)])
+    path = tmp_path / "s.json"
+    scene2d.save(path, scene)
+    back = scene2d.load(path)
+    assert back.digest() == scene.digest()
+
+
+@pytest.mark.parametrize("data, needle", [
+    ({"format": "other", "version": 1}, "not a shadelab.lighting2d file"),
+    ({"format": "shadelab.lighting2d", "version": 2}, "unsupported version 2"),
+    ({"format": "shadelab.lighting2d", "version": 1, "lights": [{"radius": -3}]}, "light 0: light radius"),
+    ({"format": "shadelab.lighting2d", "version": 1, "lights": [{"brightness": 3}]}, "unknown keys: brightness"),
+    ({"format": "shadelab.lighting2d", "version": 1, "hulls": [{"points": [[0, 0], ["a", 1], [1, 1]]}]},
+     "hull 0"),
+    ({"format": "shadelab.lighting2d", "version": 1, "ambient": [2, 0, 0]}, "within 0..1"),
+])
+def test_malformed_scene_files_are_refused(tmp_path, data, needle):
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(Lighting2DError, match=needle):
+        scene2d.load(path)
