@@ -5,6 +5,7 @@ import json
 import os
 
 from app.io.atomic import write_text
+from app.io.json_file import read_versioned
 from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D
 
 FORMAT = "shadelab.lighting2d"
@@ -15,17 +16,7 @@ HULL_KEYS = ("points", "position", "origin", "rotation", "scale", "enabled")
 
 
 def load(path: str | os.PathLike) -> Scene2D:
-    try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except OSError as exc:
-        raise Lighting2DError(f"cannot read {path}: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise Lighting2DError(f"{path} is not valid JSON: {exc}") from None
-    if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise Lighting2DError(f"{path} is not a {FORMAT} file")
-    if data.get("version") != VERSION:
-        raise Lighting2DError(f"{path}: unsupported version {data.get('version')!r} (this build reads {VERSION})")
+    data = read_versioned(path, FORMAT, VERSION, Lighting2DError)
     try:
         lights = [_make(Light, item, LIGHT_KEYS, f"light {i}") for i, item in enumerate(data.get("lights", []))]
         hulls = [_make(Hull, item, HULL_KEYS, f"hull {i}") for i, item in enumerate(data.get("hulls", []))]

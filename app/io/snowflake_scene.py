@@ -5,6 +5,7 @@ import json
 import os
 
 from app.io.atomic import write_text
+from app.io.json_file import read_versioned
 from app.model.snowflake import MAX_LEVEL, Flake, SceneError, SnowflakeScene
 
 FORMAT = "shadelab.snowflake"
@@ -13,17 +14,7 @@ VERSION = 1
 
 def load(path: str | os.PathLike) -> tuple[list[Flake], float]:
     """Parse and validate the whole file before anything reaches the model."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except OSError as exc:
-        raise SceneError(f"cannot read {path}: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise SceneError(f"{path} is not valid JSON: {exc}") from None
-    if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise SceneError(f"{path} is not a {FORMAT} file")
-    if data.get("version") != VERSION:
-        raise SceneError(f"{path}: unsupported version {data.get('version')!r} (this build reads {VERSION})")
+    data = read_versioned(path, FORMAT, VERSION, SceneError)
     level = data.get("level", 2)
     if not isinstance(level, (int, float)) or isinstance(level, bool) or not 0 <= level <= MAX_LEVEL:
         raise SceneError(f"{path}: level must be a number within 0..{MAX_LEVEL:g}")
