@@ -10,9 +10,8 @@ from scipy.ndimage import distance_transform_edt
 from app.gl.vertex_arrays import VertexArrays
 from app.gl.volume import VolumeTexture
 from app.model import render_modes as rm
-from app.model.volume_view import VolumeView, box_extents
+from app.model.volume_view import AXIS_INDEX, VolumeView, box_extents
 
-AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 EDITED_SLICE = (0.35, 0.85, 1.0, 0.10)   # faint: where the painter works
 PICKED_SLICE = (1.0, 0.85, 0.2, 0.35)    # the slice picker's hovered slice
 KIND = {"translucent": 0, "pure": 1, "phong": 2}

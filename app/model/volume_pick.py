@@ -3,9 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from app.model.volume_view import box_extents
+from app.model.volume_view import box_extents, world_to_texture
 
-FLIP = np.array([1.0, -1.0, -1.0])  # world -> index space: y down, z away (as the renderer's shader)
 
 
 def first_hit(volume, origin: np.ndarray, direction: np.ndarray) -> tuple[int, int, int] | None:
@@ -19,7 +18,7 @@ def first_hit(volume, origin: np.ndarray, direction: np.ndarray) -> tuple[int, i
     if not t_near < t_far:
         return None
     size = np.array(volume.size)
-    to_index = lambda t: ((origin + direction * t) * FLIP / extent + 1) / 2 * size  # noqa: E731
+    to_index = lambda t: world_to_texture(origin + direction * t, extent) * size  # noqa: E731
     steps = int(np.ceil(np.linalg.norm(to_index(t_far) - to_index(t_near)) * 2)) + 1  # half-voxel steps
     ts = np.linspace(t_near, t_far, steps)
     idx = np.clip(np.floor(to_index(ts[:, None])).astype(int), 0, size - 1)

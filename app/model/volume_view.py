@@ -3,7 +3,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from app.model.camera3d import OrbitCamera
+from app.model.volume import AXES
+
+AXIS_INDEX = {axis: i for i, axis in enumerate(AXES)}
+# World -> voxel-index axes: the index space has y down and z away from the viewer (an image stack),
+# the world is right-handed with y up. The shaders use the same flip.
+FLIP = np.array([1.0, -1.0, -1.0])
 
 
 @dataclass
@@ -31,3 +39,8 @@ def box_extents(size: tuple[int, int, int]) -> tuple[float, float, float]:
     """Half extents of the volume's box: the longest side spans [-1, 1], the others in proportion."""
     longest = max(size)
     return tuple(s / longest for s in size)
+
+
+def world_to_texture(p: np.ndarray, extent) -> np.ndarray:
+    """World points to texture coordinates 0..1 across the box (x right, y down, z away)."""
+    return (p * FLIP / np.asarray(extent) + 1.0) * 0.5

@@ -10,9 +10,8 @@ from scipy.ndimage import map_coordinates
 
 from app.model import render_modes as rm
 from app.model.camera3d import OrbitCamera
-from app.model.volume_view import box_extents
+from app.model.volume_view import FLIP, box_extents, world_to_texture
 
-FLIP = np.array([1.0, -1.0, -1.0])  # world -> index axes: y down, z away
 
 
 class Scene:
@@ -27,7 +26,7 @@ class Scene:
         self.sample_range = sample_range
 
     def to_texture(self, p: np.ndarray) -> np.ndarray:
-        return (p * FLIP / self.extent + 1.0) * 0.5
+        return world_to_texture(p, self.extent)
 
     def sample(self, t: np.ndarray, nearest: bool = False) -> np.ndarray:
         """RGBA at texture coordinates t (..., 3): texel centres at (i + 0.5) / size, clamped."""

@@ -6,9 +6,9 @@ import numpy as np
 from PySide6.QtCore import Qt
 
 from app.model.volume_pick import first_hit
+from app.model.volume_view import AXIS_INDEX
 
 DEGREES_PER_PIXEL = 0.4
-AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 
 
 class VolumeTool:
