@@ -117,3 +117,12 @@ def test_comments_outside_quotes_are_dropped():
 def test_quoted_and_escaped_separators_stay_in_their_word():
     assert split_commands("say ';'; say \";;\"") == [["say", ";"], ["say", ";;"]]
     assert split_commands(r"say a\;b; echo \"x") == [["say", "a;b"], ["echo", '"x']]
+
+
+def test_quiet_commands_are_echoed_only_when_asked():
+    c = Console()
+    c.registry.command("drag", "x:int", quiet=True)(lambda x: None)
+    c.execute("drag 1", echo=None)
+    assert c.log == []
+    c.execute("drag 2")  # typed: always echoed
+    assert [line.text for line in c.log] == ["] drag 2"]

@@ -29,7 +29,7 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
     def add(x: float, y: float, radius: float = DEFAULT_RADIUS) -> None:
         console.print(f"flake {scene.add(x, y, radius)} at ({x:g}, {y:g})")
 
-    @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre")
+    @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)
     def move(index: int, x: float, y: float) -> None:
         scene.move(index, x, y)
 
@@ -47,7 +47,8 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
             console.print(f"{i}: ({f.x:g}, {f.y:g}) radius {f.radius:g}")
         console.print(f"{len(scene.flakes)} flakes, level {scene.level:g}")
 
-    @reg.command("snow.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height it shows")
+    @reg.command("snow.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height it shows",
+                 quiet=True)
     def view(cx: float, cy: float, height: float) -> None:
         if height <= 0:
             raise CommandError(f"height must be > 0, got {height:g}")

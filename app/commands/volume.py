@@ -125,7 +125,8 @@ def register(editor: "Editor") -> None:
         volume().stroke(*stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
     @reg.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
-                 "Show a stroke in progress (the painter, while the mouse is down); not recorded", recorded=False)
+                 "Show a stroke in progress (the painter, while the mouse is down); not recorded", recorded=False,
+                 quiet=True)
     def stroke_preview(axis, index, size, r, g, b, a, coords) -> None:
         volume().preview_stroke(*stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
@@ -181,11 +182,12 @@ def register(editor: "Editor") -> None:
         view.index = min(max(0, view.index + delta), volume().depth(view.axis) - 1)
 
     @reg.command("slice.highlight", "[axis] [index:int]", "Highlight a slice in the 3D view (the slice picker)",
-                 recorded=False)
+                 recorded=False, quiet=True)
     def slice_highlight(axis: str | None = None, index: int | None = None) -> None:
         view.highlight = None if axis is None or index is None else (_axis(axis), index)
 
-    @reg.command("orbit", "yaw:float pitch:float [distance:float]", "Place the 3D view's camera (left drag; w/s)")
+    @reg.command("orbit", "yaw:float pitch:float [distance:float]", "Place the 3D view's camera (left drag; w/s)",
+                 quiet=True)
     def orbit(yaw: float, pitch: float, distance: float | None = None) -> None:
         cam = view.camera
         view.camera = OrbitCamera(yaw % 360.0, pitch, cam.distance if distance is None else distance, cam.fov)

@@ -89,19 +89,26 @@ class Console:
     def clear(self) -> None:
         self.log.clear()
 
-    def execute(self, line: str, echo: bool = True) -> bool:
-        """Run every command on the line; False if any failed (the later ones still run)."""
+    def execute(self, line: str, echo: bool | None = True) -> bool:
+        """Run every command on the line; False if any failed (the later ones still run).
+        echo None: echo unless every command is a quiet one (what a drag sends many times a second)."""
         line = line.strip()
         if not strip_comment(line).strip():
             return True
-        if echo:
-            self.print(f"] {line}", "input")
         try:
             commands = split_commands(line)
         except CommandError as exc:
+            if echo:
+                self.print(f"] {line}", "input")
             self.error(str(exc))
             return False
+        if echo or (echo is None and not all(self._quiet(words[0]) for words in commands)):
+            self.print(f"] {line}", "input")
         return self._run_all(commands)
+
+    def _quiet(self, name: str) -> bool:
+        cmd = self.registry.commands.get(name)
+        return cmd is not None and cmd.quiet
 
     def _run_all(self, commands: list[list[str]]) -> bool:
         ok = True

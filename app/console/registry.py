@@ -47,6 +47,7 @@ class Command:
     help: str = ""
     completer: Callable[[str], list[str]] | None = None  # candidates for the argument being typed
     recorded: bool = True  # False for queries and for commands that only run others (exec, lua, play)
+    quiet: bool = False    # sent many times a second by a drag or hover: run without echoing the line
 
     def usage(self) -> str:
         return " ".join([self.name, *(p.usage() for p in self.params)])
@@ -149,11 +150,12 @@ class Registry:
         self.aliases: dict[str, str] = {}
         self.cvar_changes = 0  # counts every cvar change: hosts redraw when it moves
 
-    def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True):
+    def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True,
+                quiet: bool = False):
         """Decorator: register `handler` under `name` with an argument spec like 'x:float [y:int]'."""
 
         def register(handler):
-            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded))
+            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded, quiet))
             return handler
 
         return register

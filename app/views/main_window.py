@@ -18,8 +18,6 @@ from app.views.viewport import Viewport
 from app.views.volume_tool import VolumeTool
 
 EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520}
-# Commands a drag or hover sends many times a second: run (and record) them without echoing each one.
-QUIET = {"stroke.preview", "slice.highlight", "orbit", "snow.move", "snow.view"}
 
 
 class MainWindow(QMainWindow):
@@ -137,8 +135,8 @@ class MainWindow(QMainWindow):
         return actions
 
     def run(self, line: str) -> bool:
-        """Every edit from a widget, the mouse or a key passes through the console."""
-        return self.editor.console.execute(line, echo=line.split(" ", 1)[0] not in QUIET)
+        """Every edit from a widget, the mouse or a key passes through the console (drags unechoed)."""
+        return self.editor.console.execute(line, echo=None)
 
     def toggle_console(self) -> None:
         dock = self.docks["console"]

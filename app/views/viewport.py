@@ -38,7 +38,8 @@ class Viewport(QOpenGLWidget):
         self._shader_timer = QTimer(self, interval=SHADER_POLL_MS, timeout=self.poll_shaders)
         self._idle_timer = QTimer(self, singleShot=True, interval=IDLE_MS, timeout=self._idle)
         self._last_frame = 0.0
-        self.interactive = False  # the last frame was a cheap one
+        self.interactive = False  # the last frame was asked for during an interaction
+        self._refining = False    # the next frame is the full-quality one after an interaction
 
     def initializeGL(self) -> None:
         self.ctx = moderngl.create_context()
@@ -66,8 +67,6 @@ class Viewport(QOpenGLWidget):
         self.frames += 1
         self.frame_ms.append(ms)
         self.frame_rendered.emit(ms)
-
-    _refining = False
 
     def _idle(self) -> None:
         """Nothing moved for a while: catch up on deferred work and draw at full quality."""
