@@ -45,7 +45,7 @@ class PaintState:
                                     echo=False)
         if self.full_upload:
             self.texture.texture.write(self.editor.volume.data)
-            self.texture.seen = self.editor.volume.version
+            self.texture.watch.changes(self.editor.volume)  # the full upload covered every change
         else:
             self.texture.sync(self.editor.volume)
 

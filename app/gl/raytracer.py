@@ -9,6 +9,7 @@ from scipy.ndimage import distance_transform_edt
 
 from app.gl.vertex_arrays import VertexArrays
 from app.gl.volume import VolumeTexture
+from app.model.volume import VolumeWatch
 from app.model import render_modes as rm
 from app.model.volume_view import AXIS_INDEX, VolumeView, box_extents
 
@@ -52,27 +53,22 @@ class DistanceTexture:
         self.ctx = ctx
         self.texture: moderngl.Texture3D | None = None
         self.field: np.ndarray | None = None
-        self.source = None
-        self.seen = -1
+        self.watch = VolumeWatch()
         self.stale = False  # clamped since the last exact build
 
     def sync(self, volume) -> moderngl.Texture3D:
-        if self.source is not volume or self.texture is None or self.texture.size != volume.size:
-            self.source = volume
+        box = self.watch.changes(volume)
+        if self.texture is None or self.texture.size != volume.size or (box is not None and box.shape == volume.size):
             self._rebuild(volume)
-        elif (box := volume.changed_since(self.seen)) is not None:
-            if box.shape == volume.size:
-                self._rebuild(volume)
-            else:
-                self._clamp(box)
-        self.seen = volume.version
+        elif box is not None:
+            self._clamp(box)
         return self.texture
 
     def refine(self) -> bool:
         """The exact field again after clamped edits; True if anything was done."""
-        if not self.stale or self.source is None:
+        if not self.stale or self.watch.source is None:
             return False
-        self._rebuild(self.source)
+        self._rebuild(self.watch.source)
         return True
 
     def _rebuild(self, volume) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from app.model.volume import VolumeWatch
 
 
 class VolumeTexture:
@@ -12,13 +13,11 @@ class VolumeTexture:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.texture: moderngl.Texture3D | None = None
-        self.seen = -1
-        self.source = None  # the Volume mirrored: versions only compare within one volume
+        self.watch = VolumeWatch()
         self.uploaded_voxels = 0  # since the last reset: what the bench and tests count
 
     def sync(self, volume) -> moderngl.Texture3D:
-        if self.source is not volume:
-            self.source, self.seen = volume, -1  # changed_since(-1): the whole volume
+        box = self.watch.changes(volume)
         if self.texture is None or self.texture.size != volume.size:
             if self.texture is not None:
                 self.texture.release()
@@ -26,12 +25,11 @@ class VolumeTexture:
             self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
             self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
             self.uploaded_voxels += volume.data.shape[0] * volume.data.shape[1] * volume.data.shape[2]
-        elif (box := volume.changed_since(self.seen)) is not None:
+        elif box is not None:
             w, h, d = box.shape
             part = np.ascontiguousarray(volume.data[box.slices()])
             self.texture.write(part, viewport=(box.x0, box.y0, box.z0, w, h, d))
             self.uploaded_voxels += w * h * d
-        self.seen = volume.version
         return self.texture
 
     def read(self) -> np.ndarray:

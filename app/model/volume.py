@@ -581,3 +581,19 @@ class Volume:
         self._log.append((self.version, box))
         if len(self._log) > CHANGE_RECORDS:
             self._log_floor = self._log.popleft()[0]
+
+
+class VolumeWatch:
+    """One consumer's view of a volume's changes (a GPU texture, a distance field): what changed since
+    it last looked. A different Volume object counts as changed everywhere."""
+
+    def __init__(self) -> None:
+        self.source: Volume | None = None
+        self.seen = -1
+
+    def changes(self, volume: Volume) -> Box | None:
+        if self.source is not volume:
+            self.source, self.seen = volume, -1  # changed_since(-1): the whole volume
+        box = volume.changed_since(self.seen)
+        self.seen = volume.version
+        return box
