@@ -15,11 +15,10 @@ from app.console.binds import Binds
 from app.console.console import Console
 from app.console.demo import Clock, MonotonicClock
 from app.console.demos import Demos
-from app.io.volume_formats import write_volume
 from app.model.camera2d import Camera2D
 from app.model.snowflake import default_scene
 from app.model.volume import Volume
-from app.model.volume_samples import coords3d
+from app.model.volume_samples import make
 from app.model.volume_view import VolumeView
 
 START_CONFIGS = ("default.cfg", "shadelab.cfg")
@@ -35,7 +34,7 @@ class Editor:
         self.workspace = "snowflake"
         self.snowflake = default_scene()
         self.snowflake_camera = Camera2D()
-        self.volume = Volume(coords3d())  # Tex3Dtrace opened coords3d by default
+        self.volume = Volume(make("coords3d"))  # Tex3Dtrace opened coords3d by default
         self.volume_view = VolumeView()
         self.lua = builtins.register(self.console, self.binds)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.state_commands, frame)
@@ -69,24 +68,10 @@ class Editor:
         return {"snowflake": self.snowflake.digest(), "volume": self.volume.digest(), "cvars": cvars, "view": view}
 
     def state_commands(self, demo_path: Path) -> list[str]:
-        """Commands that rebuild the current state from any other: a demo's opening lines.
-        The voxels go into `<demo>.start.r3` beside the demo unless they are the default sample."""
-        scene, cam = self.snowflake, self.snowflake_camera
-        if self.volume.digest() == Volume(coords3d()).digest():
-            lines = ["sample coords3d"]
-        else:
-            snapshot = demo_path.with_suffix(".start.r3")
-            write_volume(snapshot, self.volume.data)
-            lines = [f"load {shlex.quote(str(snapshot.resolve()))}"]
-        v = self.volume_view
-        lines += [f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
-                  f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
-                  f"vol.background {' '.join(map(str, v.background))}"]
-        lines += [f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}",
-                  f"stereo {int(v.stereo)}", f"magnify {int(v.magnify)}", f"wireframe {int(v.wireframe)}"]
-        lines += ["snow.clear"]
-        lines += [f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes]
-        lines += [f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]
+        """Commands that rebuild the current state from any other: a demo's opening lines. Each command
+        module says its own part (the voxels may go into a snapshot file beside the demo)."""
+        lines = volume_commands.state_commands(self, demo_path)
+        lines += snowflake_commands.state_commands(self.snowflake, self.snowflake_camera)
         lines += [f"{'seta' if c.archive else 'set'} {n} {shlex.quote(c.serialise())}"
                   for n, c in sorted(self.console.registry.cvars.items())]
         lines.append(f"workspace {self.workspace}")

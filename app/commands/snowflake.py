@@ -9,6 +9,12 @@ from app.model.snowflake import MAX_LEVEL, SnowflakeScene
 DEFAULT_RADIUS = 0.3
 
 
+def state_commands(scene: SnowflakeScene, camera: Camera2D) -> list[str]:
+    """Commands that rebuild the scene and its view exactly (floats as repr)."""
+    return ["snow.clear", *(f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes),
+            f"snow.level {scene.level!r}", f"snow.view {camera.cx!r} {camera.cy!r} {camera.height!r}"]
+
+
 def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
     reg = console.registry
 

@@ -3,6 +3,7 @@ tests rely on them. Colour components are 0-255 integers; slices are (axis, inde
 from __future__ import annotations
 
 import math
+import shlex
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -37,6 +38,25 @@ def _points(coords: list[int]) -> list[tuple[int, int]]:
     if not coords or len(coords) % 2:
         raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
     return list(zip(coords[0::2], coords[1::2]))
+
+
+def state_commands(editor: "Editor", demo_path: Path) -> list[str]:
+    """Commands that rebuild the volume and its view; voxels other than the default sample go into
+    `<demo>.start.r3` beside the demo."""
+    volume, v = editor.volume, editor.volume_view
+    if volume.digest() == Volume(make("coords3d")).digest():
+        lines = ["sample coords3d"]
+    else:
+        snapshot = demo_path.with_suffix(".start.r3")
+        write_volume(snapshot, volume.data)
+        lines = [f"load {shlex.quote(str(snapshot.resolve()))}"]
+    return lines + [
+        f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
+        f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
+        f"vol.background {' '.join(map(str, v.background))}",
+        f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}",
+        f"stereo {int(v.stereo)}", f"magnify {int(v.magnify)}", f"wireframe {int(v.wireframe)}",
+    ]
 
 
 def register(editor: "Editor") -> None:
