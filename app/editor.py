@@ -5,7 +5,6 @@ Both hosts drive one of these: the Qt main window and the headless `shadelab ren
 from __future__ import annotations
 
 import hashlib
-import shlex
 from pathlib import Path
 from typing import Callable
 
@@ -72,7 +71,6 @@ class Editor:
         module says its own part (the voxels may go into a snapshot file beside the demo)."""
         lines = volume_commands.state_commands(self, demo_path)
         lines += snowflake_commands.state_commands(self.snowflake, self.snowflake_camera)
-        lines += [f"{'seta' if c.archive else 'set'} {n} {shlex.quote(c.serialise())}"
-                  for n, c in sorted(self.console.registry.cvars.items())]
+        lines += [c.assignment() for _name, c in sorted(self.console.registry.cvars.items())]
         lines.append(f"workspace {self.workspace}")
         return lines

@@ -26,7 +26,7 @@ def _infer(text: str) -> type:
 def config_lines(console: Console, binds: Binds) -> list[str]:
     """What writeconfig saves: archived cvars, binds and aliases, as commands."""
     reg = console.registry
-    lines = [f"seta {name} {shlex.quote(c.serialise())}" for name, c in sorted(reg.cvars.items()) if c.archive]
+    lines = [c.assignment() for _name, c in sorted(reg.cvars.items()) if c.archive]
     lines += ["unbindall", *binds.lines()]  # the saved binds are the whole set: a removed default stays removed
     lines += [f"alias {name} {shlex.quote(text)}" for name, text in sorted(reg.aliases.items())]
     return lines

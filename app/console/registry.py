@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import shlex
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -133,6 +134,10 @@ class Cvar:
         if self.type is float:
             return f"{self.value:g}"
         return self.serialise()
+
+    def assignment(self) -> str:
+        """The command that gives it this value again (configs, a demo's opening lines)."""
+        return f"{'seta' if self.archive else 'set'} {self.name} {shlex.quote(self.serialise())}"
 
     def serialise(self) -> str:
         """For files, demos and digests: floats exact (repr round-trips)."""
