@@ -37,6 +37,7 @@ class SliceCanvas(QWidget):
         self.hover: tuple[int, int] | None = None
         self._zoom_drag: tuple[float, float] | None = None
         self._checker: QBrush | None = None
+        self._image: tuple | None = None  # (what it shows, the composed slice)
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMinimumSize(200, 200)
@@ -60,8 +61,16 @@ class SliceCanvas(QWidget):
 
     # -- drawing ----------------------------------------------------------------------------
     def image(self) -> np.ndarray:
-        """The slice as RGBA, with the neighbouring slices faint where it is transparent."""
+        """The slice as RGBA, with the neighbouring slices faint where it is transparent. Kept until the
+        voxels or the slice change: the brush cursor repaints on every mouse move."""
         vol, view = self.editor.volume, self.editor.volume_view
+        key = (id(vol), vol.version, view.axis, view.index)
+        if self._image is None or self._image[0] != key:
+            self._image = (key, self._compose(vol, view))
+        return self._image[1]
+
+    @staticmethod
+    def _compose(vol, view) -> np.ndarray:
         rgba = vol.slice(view.axis, view.index).astype(np.float32)
         around = [vol.slice(view.axis, i) for i in (view.index - 1, view.index + 1) if 0 <= i < vol.depth(view.axis)]
         if around:
