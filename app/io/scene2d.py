@@ -12,6 +12,7 @@ FORMAT = "shadelab.lighting2d"
 VERSION = 1
 LIGHT_KEYS = ("kind", "position", "origin", "rotation", "scale", "color", "intensity", "radius", "enabled",
               "casts_shadows", "shadow_type", "cone_decay", "height", "texture", "ignored_hulls")
+SCENE_KEYS = ("ambient", "view", "background", "normal_map")
 HULL_KEYS = ("points", "position", "origin", "rotation", "scale", "enabled")
 
 
@@ -20,9 +21,14 @@ def load(path: str | os.PathLike) -> Scene2D:
     try:
         lights = [_make(Light, item, LIGHT_KEYS, f"light {i}") for i, item in enumerate(data.get("lights", []))]
         hulls = [_make(Hull, item, HULL_KEYS, f"hull {i}") for i, item in enumerate(data.get("hulls", []))]
-        return Scene2D(ambient=data.get("ambient", (0.15, 0.15, 0.18)), lights=lights, hulls=hulls)
+        unknown = set(data) - {"format", "version", *SCENE_KEYS, "lights", "hulls"}
+        if unknown:
+            raise Lighting2DError(f"unknown keys: {', '.join(sorted(unknown))}")
+        return Scene2D(lights=lights, hulls=hulls, **{k: data[k] for k in SCENE_KEYS if k in data})
     except Lighting2DError as exc:
         raise Lighting2DError(f"{path}: {exc}") from None
+    except TypeError as exc:
+        raise Lighting2DError(f"{path}: invalid scene: {exc}") from None
 
 
 def _make(kind, item, keys: tuple[str, ...], what: str):
@@ -44,6 +50,9 @@ def dumps(scene: Scene2D) -> str:
         "format": FORMAT,
         "version": VERSION,
         "ambient": list(scene.ambient),
+        "view": list(scene.view),
+        "background": scene.background,
+        "normal_map": scene.normal_map,
         "lights": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(light).items()}
                    for light in scene.lights],
         "hulls": [{"points": hull.points.tolist(), "position": list(hull.position), "origin": list(hull.origin),

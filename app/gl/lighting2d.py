@@ -1,0 +1,366 @@
+"""The 2D lighting renderer (seed 000, Penumbra): lightmap cleared to ambient with alpha 1; per light a
+shadow mask in the alpha, the hull pass, the light added weighted by that alpha; then diffuse x lightmap.
+
+Five shadow methods (`METHODS`) share the pipeline and differ only in how the mask is made. Geometry is
+uploaded relative to each light's centre (subtracted in double on the CPU) so coordinates near 1e6 keep
+their precision. Lights whose quad misses the view are skipped, each light is scissored to its quad, and
+only hulls that can reach its quad are considered (a grid index), so hulls and lights far from the view
+cost nothing."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import moderngl
+import numpy as np
+
+from app.gl.lighting2d_geometry import LightGeometry, disc_samples
+from app.gl.vertex_arrays import VertexArrays
+from app.io.textures2d import image
+from app.model.camera2d import Camera2D
+from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d_index import SceneIndex, light_bounds
+
+METHODS = ("hard", "penumbra", "jitter", "blur", "exact")
+KINDS = {"point": 0, "spot": 1, "textured": 2}
+SHADOW_TYPES = {"solid": 0, "illuminated": 1, "occluded": 2}
+ALPHA = (False, False, False, True)
+ALL = (True, True, True, True)
+
+
+@dataclass(frozen=True)
+class Shading2D:
+    method: str = "exact"
+    samples: int = 16             # jitter: hard shadows averaged
+    blur: float = 0.5             # blur: Gaussian sigma as a share of the light's radius
+    lightmap_scale: float = 1.0   # the lightmap's resolution relative to the screen
+    flip_y: bool = False          # a y-down world (screen coordinates), as with Penumbra's SpriteBatch transform
+    normal_maps: bool = True
+    disc_samples: int = 64        # exact: samples of the disc where a hull touches it
+
+
+@dataclass
+class FrameStats:
+    lights_drawn: int = 0
+    lights_culled: int = 0
+    hulls_considered: int = 0
+    skipped_inside: list[int] = field(default_factory=list)
+
+
+class Lighting2DRenderer:
+    def __init__(self, ctx: moderngl.Context, shaders) -> None:
+        self.ctx = ctx
+        self.shaders = shaders
+        self._index: SceneIndex | None = None
+        self._geometry: dict[int, LightGeometry] = {}
+        self._quad = ctx.buffer(np.array([0, 0, 1, 0, 0, 1, 1, 1], "f4"))
+        self._edges = ctx.buffer(reserve=64, dynamic=True)
+        self._tris = ctx.buffer(reserve=64, dynamic=True)
+        self._pieces: moderngl.Texture | None = None
+        self._edge_count = 0
+        self._quad_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._quad, "2f", "in_uv")]))
+        self._edge_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._edges, "2f 2f 2f", "in_a", "in_b", "in_s")]))
+        self._tri_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._tris, "2f", "in_rel")]))
+        self._screen_vaos = VertexArrays(lambda p: ctx.vertex_array(p, []))
+        self._targets: dict[str, tuple] = {}
+        self._textures: dict[str, moderngl.Texture] = {}
+        self.stats = FrameStats()
+
+    # ---- public -------------------------------------------------------------------------------------
+
+    def render(self, fbo: moderngl.Framebuffer, scene: Scene2D, camera: Camera2D, settings: Shading2D,
+               lightmap_only: bool = False) -> FrameStats:
+        """Draw the lit scene into `fbo` (its whole viewport)."""
+        lightmap = self.build_lightmap(scene, camera, fbo.size, settings)
+        fbo.scissor = None
+        _bind(fbo, ALL)
+        self.ctx.disable(moderngl.BLEND)
+        program = self.shaders.program("light2d_composite")
+        diffuse = self._texture(scene.background, repeat=True)
+        diffuse.use(0)
+        lightmap.use(1)
+        program["u_diffuse"].value, program["u_lightmap"].value = 0, 1
+        sx, sy, ox, oy = self._ndc_to_world(camera, *fbo.size, settings.flip_y, diffuse.size)
+        program["u_world_scale"].value, program["u_world_offset"].value = (sx, sy), (ox, oy)
+        program["u_lightmap_only"].value = lightmap_only
+        self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
+        return self.stats
+
+    def read_lightmap(self, scene: Scene2D, camera: Camera2D, size: tuple[int, int], settings: Shading2D) -> np.ndarray:
+        """The lightmap as float32 (height, width, 3), clamped to 0..1, row 0 at the top (bench, tests)."""
+        tex = self.build_lightmap(scene, camera, size, settings)
+        data = np.frombuffer(tex.read(), "f2").reshape(tex.height, tex.width, 4)[::-1, :, :3].astype(np.float32)
+        return np.clip(data, 0.0, 1.0)
+
+    def build_lightmap(self, scene: Scene2D, camera: Camera2D, size: tuple[int, int], settings: Shading2D):
+        if settings.method not in METHODS:
+            raise ValueError(f"unknown shadow method {settings.method!r}; there are {', '.join(METHODS)}")
+        if self._index is None or self._index.version != scene.version or self._index.scene is not scene:
+            self._index = SceneIndex(scene)
+            self._geometry.clear()
+        w, h = (max(1, round(v * settings.lightmap_scale)) for v in size)
+        lightmap, fbo = self._target("lightmap", (w, h), 4, "f2")
+        fbo.scissor = None
+        _bind(fbo, ALL)
+        fbo.clear(*scene.ambient, 1.0)
+        self.stats = FrameStats()
+        scale, offset = self._clip_transform(camera, w, h, settings.flip_y)
+        view = self._view_rect(camera, w, h)
+        for i, light in enumerate(scene.lights):
+            if not light.enabled:
+                continue
+            x0, y0, x1, y1 = light_bounds(light)
+            if x1 < view[0] or x0 > view[2] or y1 < view[1] or y0 > view[3]:
+                self.stats.lights_culled += 1
+                continue
+            if self._index.centre_blocked(light):
+                self.stats.skipped_inside.append(i)
+                continue
+            self._draw_light(fbo, scene, i, light, scale, offset, settings)
+            self.stats.lights_drawn += 1
+        fbo.scissor = None
+        _bind(fbo, ALL)
+        self.ctx.disable(moderngl.BLEND)
+        return lightmap
+
+    # ---- one light ----------------------------------------------------------------------------------
+
+    def _draw_light(self, fbo, scene, index, light: Light, scale, offset, settings: Shading2D) -> None:
+        geometry = self._geometry.get(index)
+        if geometry is None:
+            geometry = self._geometry[index] = LightGeometry.build(scene, self._index, light)
+        self.stats.hulls_considered += geometry.hull_count
+        light_clip = tuple(np.asarray(light.position) * scale + offset)
+        common = {"u_scale": tuple(scale), "u_light_clip": light_clip}
+        box = self._scissor(light, scale, offset, *fbo.size)
+        if box is None:
+            return
+        fbo.scissor = box
+        shadows = light.casts_shadows and geometry.hull_count > 0
+        method = settings.method
+        self._fill(fbo, 0.0 if shadows and method == "jitter" else 1.0, ALPHA)
+        if shadows:
+            if method == "exact":
+                self._exact_mask(fbo, light, geometry, common, settings)
+            else:
+                self._upload(self._edges, geometry.edges)
+                if method in ("hard", "penumbra"):
+                    self._edge_mask(fbo, light, common, soft=method == "penumbra")
+                elif method == "jitter":
+                    self._jitter_mask(fbo, light, common, settings.samples, box)
+                else:
+                    self._blur_mask(fbo, light, common, settings.blur, box, scale)
+                self._hull_pass(fbo, light, geometry, common)
+        self._light_pass(fbo, scene, light, common, settings)
+
+    def _edge_mask(self, fbo, light, common, soft: bool, emit=(0.0, 0.0), color_mask=ALPHA) -> None:
+        program = self._program("light2d_edges", common, u_soft=soft, u_radius=float(light.radius), u_emit=emit)
+        _bind(fbo, color_mask)
+        if soft:  # Penumbra: subtract each edge's occlusion, then clamp at 0 (overlaps would go negative)
+            self.ctx.enable(moderngl.BLEND)
+            self.ctx.blend_equation = moderngl.FUNC_REVERSE_SUBTRACT
+            self.ctx.blend_func = moderngl.ONE, moderngl.ONE
+        else:
+            self.ctx.disable(moderngl.BLEND)
+        self._edge_vaos.get(program).render(moderngl.TRIANGLES, vertices=self._edge_count)
+        if soft:
+            self._fill(fbo, 0.0, ALPHA, equation=moderngl.MAX)
+
+    def _jitter_mask(self, fbo, light, common, samples: int, box) -> None:
+        """N hard shadows from points spread over the disc, four per pass in a mask's channels."""
+        points = disc_samples(light.radius, samples)
+        mask, mask_fbo = self._target("jitter", fbo.size, 4, "f1")
+        mask_fbo.scissor = box
+        for start in range(0, len(points), 4):
+            group = points[start:start + 4]
+            self._fill(mask_fbo, 1.0, ALL)
+            for k, emit in enumerate(group):
+                self._edge_mask(mask_fbo, light, common, soft=False, emit=tuple(map(float, emit)),
+                                color_mask=tuple(c == k for c in range(4)))
+            weights = tuple(1.0 / len(points) if k < len(group) else 0.0 for k in range(4))
+            self._mask_into_alpha(fbo, mask, weights, blend=True)
+
+    def _blur_mask(self, fbo, light, common, blur: float, box, scale) -> None:
+        sigma = max(blur * light.radius * abs(float(scale[1])) * fbo.size[1] / 2.0, 1e-3)
+        reach = int(math.ceil(3 * sigma)) + 1
+        x, y, w, h = box
+        grown = (max(x - reach, 0), max(y - reach, 0), w + 2 * reach, h + 2 * reach)
+        mask, mask_fbo = self._target("blur_a", fbo.size, 1, "f2")
+        other, other_fbo = self._target("blur_b", fbo.size, 1, "f2")
+        mask_fbo.scissor = other_fbo.scissor = grown
+        self._fill(mask_fbo, 1.0, ALL)
+        self._edge_mask(mask_fbo, light, common, soft=False, color_mask=ALL)
+        program = self._program("light2d_blur", {}, u_sigma=float(sigma), u_mask=0)
+        for source, target, step in ((mask, other_fbo, (1.0, 0.0)), (other, mask_fbo, (0.0, 1.0))):
+            _bind(target, ALL)
+            source.use(0)
+            program["u_step"].value = step
+            self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
+        self._mask_into_alpha(fbo, mask, (1.0, 0.0, 0.0, 0.0), blend=False)
+
+    def _exact_mask(self, fbo, light, geometry, common, settings: Shading2D) -> None:
+        texels = geometry.pieces
+        rows = max(1, -(-len(texels) // 1024))
+        if self._pieces is None or self._pieces.height < rows:
+            if self._pieces is not None:
+                self._pieces.release()
+            self._pieces = self.ctx.texture((1024, max(rows, 4)), 4, dtype="f4")
+            self._pieces.filter = moderngl.NEAREST, moderngl.NEAREST
+        padded = np.zeros((rows * 1024, 4), "f4")
+        padded[:len(texels)] = texels
+        self._pieces.write(padded.tobytes(), viewport=(0, 0, 1024, rows))
+        self._pieces.use(0)
+        program = self._program(
+            "light2d_exact", common, u_pieces=0, u_begin=0, u_end=len(texels), u_radius=float(light.radius),
+            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=geometry.touching,
+            u_disc_samples=int(settings.disc_samples), **self._quad_uniforms(light))
+        _bind(fbo, ALPHA)
+        self.ctx.disable(moderngl.BLEND)
+        self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)
+
+    def _hull_pass(self, fbo, light, geometry, common) -> None:
+        if light.shadow_type == "occluded" or not len(geometry.triangles):
+            return  # occluded hulls keep what the other hulls' shadows left
+        self._upload(self._tris, geometry.triangles)
+        value = 0.0 if light.shadow_type == "solid" else 1.0
+        program = self._program("light2d_hull", common, u_color=(value, value, value, value))
+        _bind(fbo, ALPHA)
+        self.ctx.disable(moderngl.BLEND)
+        self._tri_vaos.get(program).render(moderngl.TRIANGLES, vertices=len(geometry.triangles))
+
+    def _light_pass(self, fbo, scene, light: Light, common, settings: Shading2D) -> None:
+        normals_on = bool(settings.normal_maps and scene.normal_map and light.height > 0)
+        extra = {}
+        if light.kind == "textured":
+            self._texture(light.texture, repeat=False).use(1)
+            extra["u_cookie"] = 1
+        if normals_on:
+            normals = self._texture(scene.normal_map, repeat=True)
+            normals.use(2)
+            w, h = normals.size
+            extra.update(u_normals=2, u_normal_at=((light.position[0] / w) % 1.0, (light.position[1] / h) % 1.0))
+        program = self._program(
+            "light2d_light", common, u_kind=KINDS[light.kind], u_color=light.color, u_intensity=light.intensity,
+            u_cone=light.cone_half_angle() if light.kind == "spot" else 1.0, u_decay=light.cone_decay,
+            u_normals_on=normals_on, u_height=float(light.height), **self._quad_uniforms(light), **extra)
+        _bind(fbo, ALL)
+        self.ctx.enable(moderngl.BLEND)
+        self.ctx.blend_equation = moderngl.FUNC_ADD
+        self.ctx.blend_func = moderngl.DST_ALPHA, moderngl.ONE, moderngl.ONE, moderngl.ZERO
+        self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)
+        self.ctx.disable(moderngl.BLEND)
+
+    # ---- helpers ------------------------------------------------------------------------------------
+
+    def _program(self, name: str, common: dict, **uniforms) -> moderngl.Program:
+        program = self.shaders.program(name)
+        for key, value in {**common, **uniforms}.items():
+            if key in program:
+                program[key].value = value
+        return program
+
+    @staticmethod
+    def _quad_uniforms(light: Light) -> dict:
+        c, s = math.cos(light.rotation), math.sin(light.rotation)
+        sx, sy = light.scale
+        return {"u_quad": (c * sx, s * sx, -s * sy, c * sy), "u_origin": light.origin}
+
+    def _fill(self, fbo, value: float, color_mask, equation=None) -> None:
+        """Set the scissored region to `value` in the masked channels (a clear that keeps the other
+        channels), or combine it with what is there by a blend `equation`."""
+        program = self._program("light2d_fill", {}, u_color=(value, value, value, value))
+        _bind(fbo, color_mask)
+        if equation is None:
+            self.ctx.disable(moderngl.BLEND)
+        else:
+            self.ctx.enable(moderngl.BLEND)
+            self.ctx.blend_equation = equation
+            self.ctx.blend_func = moderngl.ONE, moderngl.ONE
+        self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
+        self.ctx.disable(moderngl.BLEND)
+        self.ctx.blend_equation = moderngl.FUNC_ADD
+
+    def _mask_into_alpha(self, fbo, mask, weights, blend: bool) -> None:
+        program = self._program("light2d_mask", {}, u_mask=0, u_weights=weights)
+        mask.use(0)
+        _bind(fbo, ALPHA)
+        if blend:
+            self.ctx.enable(moderngl.BLEND)
+            self.ctx.blend_equation = moderngl.FUNC_ADD
+            self.ctx.blend_func = moderngl.ONE, moderngl.ONE
+        else:
+            self.ctx.disable(moderngl.BLEND)
+        self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
+        self.ctx.disable(moderngl.BLEND)
+
+    def _upload(self, buffer: moderngl.Buffer, data: np.ndarray) -> None:
+        data = np.ascontiguousarray(data, "f4")
+        if data.nbytes > buffer.size:
+            buffer.orphan(data.nbytes)
+        if data.nbytes:
+            buffer.write(data)
+        if buffer is self._edges:
+            self._edge_count = len(data)
+
+    def _target(self, name: str, size, components: int, dtype: str):
+        held = self._targets.get(name)
+        if held is None or held[0].size != tuple(size):
+            if held is not None:
+                held[1].release()
+                held[0].release()
+            tex = self.ctx.texture(tuple(size), components, dtype=dtype)
+            tex.repeat_x = tex.repeat_y = False
+            held = self._targets[name] = (tex, self.ctx.framebuffer([tex]))
+        return held
+
+    def _texture(self, name: str, repeat: bool) -> moderngl.Texture:
+        key = f"{name}|{repeat}"
+        data = image(name)
+        held = self._textures.get(key)
+        if held is None or held[1] is not data:
+            if held is not None:
+                held[0].release()
+            tex = self.ctx.texture((data.shape[1], data.shape[0]), 4, np.ascontiguousarray(data[::-1]).tobytes())
+            tex.repeat_x = tex.repeat_y = repeat
+            tex.filter = moderngl.LINEAR, moderngl.LINEAR
+            held = self._textures[key] = (tex, data)
+        return held[0]
+
+    @staticmethod
+    def _clip_transform(camera: Camera2D, w: int, h: int, flip_y: bool):
+        scale, offset = camera.scale_offset(w, h)
+        scale, offset = scale.astype(np.float64), offset.astype(np.float64)
+        if flip_y:
+            scale[1], offset[1] = -scale[1], -offset[1]
+        return scale, offset
+
+    @staticmethod
+    def _view_rect(camera: Camera2D, w: int, h: int):
+        half_h = camera.height / 2
+        half_w = half_h * w / max(h, 1)
+        return camera.cx - half_w, camera.cy - half_h, camera.cx + half_w, camera.cy + half_h
+
+    def _ndc_to_world(self, camera: Camera2D, w: int, h: int, flip_y: bool, tex_size):
+        scale, offset = self._clip_transform(camera, w, h, flip_y)
+        sx, sy = 1.0 / scale
+        ox, oy = -offset / scale
+        return sx, sy, ox % tex_size[0], oy % tex_size[1]
+
+    @staticmethod
+    def _scissor(light: Light, scale, offset, width: int, height: int):
+        """The light's quad bounds in lightmap pixels, clipped; None when nothing is left."""
+        x0, y0, x1, y1 = light_bounds(light)
+        corners = np.array([[x0, y0], [x1, y1]]) * scale + offset
+        px = (corners[:, 0] * 0.5 + 0.5) * width
+        py = (corners[:, 1] * 0.5 + 0.5) * height
+        left, right = max(0, math.floor(px.min())), min(width, math.ceil(px.max()))
+        bottom, top = max(0, math.floor(py.min())), min(height, math.ceil(py.max()))
+        if right <= left or top <= bottom:
+            return None
+        return left, bottom, right - left, top - bottom
+
+
+def _bind(fbo: moderngl.Framebuffer, color_mask) -> None:
+    """moderngl applies a framebuffer's colour mask (and scissor) when it is bound: set them first."""
+    fbo.color_mask = color_mask
+    fbo.use()

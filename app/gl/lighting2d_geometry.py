@@ -1,0 +1,64 @@
+"""A light's shadow-casting geometry, relative to its centre (subtracted in double): edge quads for
+the geometric methods, hull triangles for the hull pass, packed convex pieces for the exact method."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d_index import SceneIndex
+
+# each edge becomes two triangles over the corners (end, projected): A, B, A', B, B', A'
+QUAD = np.array([(0, 0), (1, 0), (0, 1), (1, 0), (1, 1), (0, 1)], "f8")
+
+
+def disc_samples(radius: float, n: int) -> np.ndarray:
+    """n points spread evenly over the disc (Vogel's spiral: area-uniform, golden-angle steps)."""
+    k = np.arange(n) + 0.5
+    r = radius * np.sqrt(k / n)
+    a = np.arange(n) * math.pi * (3.0 - math.sqrt(5.0))
+    return np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
+
+
+@dataclass
+class LightGeometry:
+    edges: np.ndarray       # (6 * edges, 6): in_a, in_b, in_s per vertex
+    triangles: np.ndarray   # (3 * triangles, 2)
+    pieces: np.ndarray      # (texels, 4) for light2d_exact_FS.glsl
+    touching: bool          # a piece meets the emitting disc
+    hull_count: int
+
+    @classmethod
+    def build(cls, scene: Scene2D, index: SceneIndex, light: Light) -> "LightGeometry":
+        centre = np.asarray(light.position, dtype=np.float64)
+        edges, triangles, texels = [], [], []
+        touching = False
+        hulls = index.casters(light)
+        for h in hulls:
+            outline = scene.hulls[h].world() - centre
+            a, b = outline, np.roll(outline, -1, axis=0)
+            per_edge = np.concatenate([a, b], axis=1)                          # (k, 4)
+            edges.append(np.concatenate([np.repeat(per_edge, 6, axis=0), np.tile(QUAD, (len(a), 1))], axis=1))
+            for piece in scene.hulls[h].world_pieces():
+                rel = piece - centre
+                n = len(rel)
+                fan = np.stack([np.repeat(rel[:1], n - 2, axis=0), rel[1:-1], rel[2:]], axis=1).reshape(-1, 2)
+                triangles.append(fan)
+                mid = rel.mean(axis=0)
+                head = np.array([[n, h, 0, 0], [mid[0], mid[1], np.linalg.norm(rel - mid, axis=1).max(), 0]])
+                verts = rel if n % 2 == 0 else np.concatenate([rel, rel[:1]])
+                texels.append(np.concatenate([head, verts.reshape(-1, 4)]))
+                touching = touching or (light.radius > 0 and _distance_to_origin(rel) <= light.radius)
+        cat = lambda parts, width: np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
+        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), touching, len(hulls))
+
+
+def _distance_to_origin(piece: np.ndarray) -> float:
+    a, e = piece, np.roll(piece, -1, axis=0) - piece
+    t = np.clip(-np.einsum("kd,kd->k", a, e) / np.maximum(np.einsum("kd,kd->k", e, e), 1e-300), 0.0, 1.0)
+    cross = e[:, 0] * (-a[:, 1]) - e[:, 1] * (-a[:, 0])
+    if np.all(cross >= 0):
+        return 0.0  # the centre is inside
+    return float(np.linalg.norm(a + t[:, None] * e, axis=1).min())

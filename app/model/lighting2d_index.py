@@ -1,0 +1,64 @@
+"""What the 2D renderer asks of a scene, answered once per scene version: the hulls that can cast
+into a light's reach (through a grid index), each light's bounds, and whether its centre is inside a
+hull (then Penumbra does not draw it)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from app.model.lighting2d import Light, Scene2D
+from app.model.spatial2d import GridIndex
+
+CORNERS = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+
+
+def light_quad(light: Light) -> np.ndarray:
+    """The light's quad corners in world space (4, 2)."""
+    c, s = math.cos(light.rotation), math.sin(light.rotation)
+    local = (CORNERS - light.origin) * light.scale
+    return local @ np.array([[c, s], [-s, c]]) + light.position
+
+
+def light_bounds(light: Light) -> tuple[float, float, float, float]:
+    quad = light_quad(light)
+    (x0, y0), (x1, y1) = quad.min(axis=0), quad.max(axis=0)
+    return float(x0), float(y0), float(x1), float(y1)
+
+
+def _inside_convex(point: np.ndarray, piece: np.ndarray, tol: float) -> bool:
+    e = np.roll(piece, -1, axis=0) - piece
+    cross = e[:, 0] * (point[1] - piece[:, 1]) - e[:, 1] * (point[0] - piece[:, 0])
+    return bool(np.all(cross >= -tol * np.hypot(e[:, 0], e[:, 1])))
+
+
+class SceneIndex:
+    def __init__(self, scene: Scene2D) -> None:
+        self.version = scene.version
+        self.scene = scene
+        self.active = [i for i, h in enumerate(scene.hulls) if h.enabled and h.valid]
+        boxes = np.array([scene.hulls[i].bounds() for i in self.active]).reshape(-1, 4)
+        self.grid = GridIndex(boxes)
+
+    def hulls_in(self, x0: float, y0: float, x1: float, y1: float, ignored=()) -> list[int]:
+        """Indices (into scene.hulls) of active hulls whose bounds meet the rectangle."""
+        found = [self.active[k] for k in self.grid.query(x0, y0, x1, y1).tolist()]
+        return [i for i in found if i not in ignored] if ignored else found
+
+    def reach(self, light: Light) -> tuple[float, float, float, float]:
+        """Where a hull can shadow this light's quad: the quad grown by the emitting disc."""
+        x0, y0, x1, y1 = light_bounds(light)
+        r = light.radius
+        return x0 - r, y0 - r, x1 + r, y1 + r
+
+    def casters(self, light: Light) -> list[int]:
+        return self.hulls_in(*self.reach(light), ignored=set(light.ignored_hulls))
+
+    def centre_blocked(self, light: Light) -> bool:
+        """The light's centre inside (or on the edge of, within 1e-9 relative) a hull it does not ignore."""
+        x, y = light.position
+        point = np.array([x, y])
+        for i in self.hulls_in(x, y, x, y, ignored=set(light.ignored_hulls)):
+            if any(_inside_convex(point, piece, 1e-9) for piece in self.scene.hulls[i].world_pieces()):
+                return True
+        return False
