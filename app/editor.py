@@ -8,19 +8,24 @@ import hashlib
 from pathlib import Path
 from typing import Callable
 
-from app.commands import core, snowflake as snowflake_commands, volume as volume_commands
+from app.commands import core, lighting2d as lighting_commands, snowflake as snowflake_commands, \
+    volume as volume_commands
 from app.console import builtins, files
 from app.console.binds import Binds
 from app.console.console import Console
 from app.console.demo import Clock, MonotonicClock
 from app.console.demos import Demos
+from app.io import scene2d
 from app.model.camera2d import Camera2D
+from app.model.lighting2d import Scene2D
 from app.model.snowflake import default_scene
 from app.model.volume import Volume
 from app.model.volume_samples import make
 from app.model.volume_view import VolumeView
+from app.resources import SCENES
 
 START_CONFIGS = ("default.cfg", "shadelab.cfg")
+DEFAULT_2D_SCENE = SCENES / "j_concave_three_lights.json"
 
 
 class Editor:
@@ -35,11 +40,14 @@ class Editor:
         self.snowflake_camera = Camera2D()
         self.volume = Volume(make("coords3d"))  # Tex3Dtrace opened coords3d by default
         self.volume_view = VolumeView()
+        self.lighting = scene2d.load(DEFAULT_2D_SCENE)
+        self.lighting_camera = Camera2D(*self.lighting.view)
         self.lua = builtins.register(self.console, self.binds)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.state_commands, frame)
         core.register(self)
         snowflake_commands.register(self.console, self.snowflake, self.snowflake_camera)
         volume_commands.register(self)
+        lighting_commands.register(self)
         if configs:
             self.run_start_configs()
 
@@ -55,22 +63,33 @@ class Editor:
 
     def version(self) -> tuple:
         """Changes whenever anything a host draws changed: redraw when it differs."""
-        cam = self.snowflake_camera
+        cam, cam2 = self.snowflake_camera, self.lighting_camera
         return (self.workspace, self.snowflake.version, cam.cx, cam.cy, cam.height, self.volume.version,
-                self.volume_view.key(), self.console.registry.cvar_changes)
+                self.volume_view.key(), self.console.registry.cvar_changes, self.lighting.version,
+                cam2.cx, cam2.cy, cam2.height)
+
+    def replace_lighting(self, scene: Scene2D) -> None:
+        """Put a loaded 2D scene in place (its view becomes the camera's); version keeps growing."""
+        scene.version = self.lighting.version + 1
+        self.lighting = scene
+        self.lighting_history.retarget(scene)
+        cam = self.lighting_camera
+        cam.cx, cam.cy, cam.height = scene.view
 
     def digest(self) -> dict[str, str]:
         cvars = hashlib.sha256("".join(f"{n}={c.serialise()};" for n, c in sorted(self.console.registry.cvars.items()))
                                .encode()).hexdigest()[:16]
         v = self.volume_view
         view = hashlib.sha256(repr((v.key(), self.workspace)).encode()).hexdigest()[:16]
-        return {"snowflake": self.snowflake.digest(), "volume": self.volume.digest(), "cvars": cvars, "view": view}
+        return {"snowflake": self.snowflake.digest(), "volume": self.volume.digest(), "lighting2d": self.lighting.digest(),
+                "cvars": cvars, "view": view}
 
     def state_commands(self, demo_path: Path) -> list[str]:
         """Commands that rebuild the current state from any other: a demo's opening lines. Each command
         module says its own part (the voxels may go into a snapshot file beside the demo)."""
         lines = volume_commands.state_commands(self, demo_path)
         lines += snowflake_commands.state_commands(self.snowflake, self.snowflake_camera)
+        lines += lighting_commands.state_commands(self)
         lines += [c.assignment() for _name, c in sorted(self.console.registry.cvars.items())]
         lines.append(f"workspace {self.workspace}")
         return lines

@@ -4,7 +4,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from app.console.registry import CommandError
-from app.io import snowflake_scene
+from app.io import scene2d, snowflake_scene
 from app.model.snowflake import SceneError
 from app.model.workspace import NAMES, WORKSPACES
 
@@ -30,6 +30,9 @@ def register(editor: "Editor") -> None:
 
     @reg.command("scene.load", "path", "Load the current workspace's scene file (checked before anything changes)")
     def scene_load(path: str) -> None:
+        if editor.workspace == "lighting2d":
+            editor.load_lighting(path)
+            return
         if editor.workspace != "snowflake":
             raise CommandError(f"the {editor.workspace} workspace has no scene files yet")
         try:
@@ -41,10 +44,15 @@ def register(editor: "Editor") -> None:
 
     @reg.command("scene.save", "path", "Save the current workspace's scene (atomically)", recorded=False)
     def scene_save(path: str) -> None:
-        if editor.workspace != "snowflake":
+        if editor.workspace not in ("snowflake", "lighting2d"):
             raise CommandError(f"the {editor.workspace} workspace has no scene files yet")
         try:
-            snowflake_scene.save(path, editor.snowflake)
+            if editor.workspace == "lighting2d":
+                cam = editor.lighting_camera
+                editor.lighting.view = (cam.cx, cam.cy, cam.height)
+                scene2d.save(path, editor.lighting)
+            else:
+                snowflake_scene.save(path, editor.snowflake)
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
         console.print(f"saved {path}")

@@ -169,14 +169,22 @@ def register(editor: "Editor") -> None:
     def smooth() -> None:
         volume().smooth()
 
-    @reg.command("undo", "", "Undo the last edit of the volume")
+    @reg.command("undo", "", "Undo the last edit of the current workspace (the volume, or the 2D scene)")
     def undo() -> None:
+        if editor.workspace == "lighting2d":
+            if not editor.lighting_history.undo():
+                raise CommandError("nothing to undo")
+            return
         if not volume().undo():
             raise CommandError("nothing to undo")
         clamp_slice()
 
-    @reg.command("redo", "", "Redo the last undone edit of the volume")
+    @reg.command("redo", "", "Redo the last undone edit of the current workspace")
     def redo() -> None:
+        if editor.workspace == "lighting2d":
+            if not editor.lighting_history.redo():
+                raise CommandError("nothing to redo")
+            return
         if not volume().redo():
             raise CommandError("nothing to redo")
         clamp_slice()

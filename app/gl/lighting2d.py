@@ -18,10 +18,10 @@ from app.gl.lighting2d_geometry import LightGeometry, disc_samples
 from app.gl.vertex_arrays import VertexArrays
 from app.io.textures2d import image
 from app.model.camera2d import Camera2D
-from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d import SHADOW_METHODS, Light, Scene2D
 from app.model.lighting2d_index import SceneIndex, light_bounds
 
-METHODS = ("hard", "penumbra", "jitter", "blur", "exact")
+METHODS = SHADOW_METHODS
 KINDS = {"point": 0, "spot": 1, "textured": 2}
 SHADOW_TYPES = {"solid": 0, "illuminated": 1, "occluded": 2}
 ALPHA = (False, False, False, True)

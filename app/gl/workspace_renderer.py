@@ -3,9 +3,12 @@ from __future__ import annotations
 
 import moderngl
 
+from dataclasses import replace
+
+from app.gl.lighting2d import Lighting2DRenderer, Shading2D
+from app.gl.lighting2d_overlay import Lighting2DOverlay
 from app.gl.shaders import ShaderLibrary
 from app.gl.snowflake import SnowflakeRenderer
-from dataclasses import replace
 
 from app.gl.quality import LEVELS, QualityLadder, ReducedTarget
 from app.gl.raytracer import RayTracer, TraceSettings
@@ -13,6 +16,14 @@ from app.model.render_modes import LIGHTS
 from app.resources import SHADERS
 
 EMPTY_BACKGROUND = (0.16, 0.16, 0.18, 1.0)
+
+
+def shading_settings(editor) -> Shading2D:
+    """The 2D renderer's settings from the editor's cvars."""
+    cvars = editor.console.registry.cvars
+    return Shading2D(method=cvars["r_shadowMethod"].value, samples=cvars["r_shadowSamples"].value,
+                     blur=cvars["r_shadowBlur"].value, lightmap_scale=cvars["r_lightmapScale"].value,
+                     flip_y=cvars["r_flipY"].value, normal_maps=cvars["r_normalMaps"].value)
 
 
 def trace_settings(editor) -> TraceSettings:
@@ -32,6 +43,8 @@ class WorkspaceRenderer:
         self.shaders = ShaderLibrary(ctx, [SHADERS], cache_dir=cache_dir, on_error=on_shader_error)
         self._snowflake: SnowflakeRenderer | None = None
         self._volume: RayTracer | None = None
+        self._lighting: Lighting2DRenderer | None = None
+        self._overlay: Lighting2DOverlay | None = None
         self.ladder = QualityLadder()
         self.level = 0  # the quality level of the last frame drawn
         self._reduced: ReducedTarget | None = None
@@ -45,6 +58,15 @@ class WorkspaceRenderer:
             if self._snowflake is None:
                 self._snowflake = SnowflakeRenderer(self.ctx, self.shaders)
             self._snowflake.render(fbo, editor.snowflake, editor.snowflake_camera)
+        elif editor.workspace == "lighting2d":
+            if self._lighting is None:
+                self._lighting = Lighting2DRenderer(self.ctx, self.shaders)
+                self._overlay = Lighting2DOverlay(self.ctx, self.shaders)
+            settings = shading_settings(editor)
+            self._lighting.render(fbo, editor.lighting, editor.lighting_camera, settings)
+            debug = editor.console.registry.cvars["r_debug2d"].value
+            self._overlay.draw(fbo, editor.lighting, editor.lighting_camera, settings.flip_y, debug,
+                               getattr(editor, "lighting_selection", None))
         elif editor.workspace == "volume":
             if self._volume is None:
                 self._volume = RayTracer(self.ctx, self.shaders)

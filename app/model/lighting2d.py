@@ -14,6 +14,7 @@ import shapely
 
 SHADOW_TYPES = ("solid", "illuminated", "occluded")
 LIGHT_KINDS = ("point", "spot", "textured")
+SHADOW_METHODS = ("hard", "penumbra", "jitter", "blur", "exact")  # how soft shadows are drawn; exact is the default
 
 
 class Lighting2DError(ValueError):

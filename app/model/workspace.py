@@ -12,7 +12,7 @@ class WorkspaceInfo:
 
 
 WORKSPACES = (
-    WorkspaceInfo("lighting2d", "2D lighting"),
+    WorkspaceInfo("lighting2d", "2D lighting", built=True),
     WorkspaceInfo("volume", "Volume", built=True),
     WorkspaceInfo("clouds", "Clouds"),
     WorkspaceInfo("lights3d", "3D lights"),

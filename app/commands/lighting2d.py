@@ -1,0 +1,368 @@
+"""The 2D lighting verbs (seed 000). Every edit of lights, hulls and the view is one of these commands,
+so demos record it, Lua scripts it and `undo` takes it back. Angles are radians; colours are 0..1;
+hull vertex commands take the hull's local coordinates."""
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from app.console.registry import CommandError, Cvar
+from app.io import scene2d as scene_file
+from app.io.textures2d import image
+from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D
+from app.model.lighting2d_history import History2D
+from app.resources import SCENES
+
+if TYPE_CHECKING:
+    from app.editor import Editor
+
+LIGHT_TUPLES = {"position", "origin", "scale", "color"}
+LIGHT_FLOATS = {"rotation", "intensity", "radius", "cone_decay", "height"}
+LIGHT_BOOLS = {"enabled", "casts_shadows"}
+LIGHT_WORDS = {"kind", "shadow_type", "texture"}
+HULL_KEYS = ("position", "origin", "rotation", "scale", "enabled")
+
+
+def sample_names() -> list[str]:
+    return sorted(p.stem for p in SCENES.glob("*.json"))
+
+
+def _fmt(value) -> str:
+    if isinstance(value, bool):
+        return str(int(value))
+    if isinstance(value, (tuple, list)):
+        return " ".join(_fmt(v) for v in value) if value else "none"
+    if value is None:
+        return "none"
+    return repr(value) if isinstance(value, float) else str(value)
+
+
+def _parse_light_value(key: str, values: list[str]):
+    try:
+        if key in LIGHT_TUPLES:
+            want = 3 if key == "color" else 2
+            if len(values) != want:
+                raise CommandError(f"light {key} takes {want} numbers")
+            return tuple(float(v) for v in values)
+        if len(values) != 1 and key != "ignored_hulls":
+            raise CommandError(f"light {key} takes one value")
+        if key in LIGHT_FLOATS:
+            return float(values[0])
+        if key in LIGHT_BOOLS:
+            return values[0] not in ("0", "false", "off")
+        if key in LIGHT_WORDS:
+            return None if key == "texture" and values[0] == "none" else values[0]
+        if key == "ignored_hulls":
+            return () if values == ["none"] else tuple(int(v) for v in values)
+    except ValueError:
+        raise CommandError(f"light {key}: cannot read {' '.join(values)!r}") from None
+    fields = sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS | {"ignored_hulls"})
+    raise CommandError(f"lights have no property {key!r}; there are {', '.join(fields)}")
+
+
+def light_commands(index: int, light: Light) -> list[str]:
+    """light.set lines that give light `index` every property of `light` (kind first)."""
+    return [f"light.set {index} {name} {_fmt(getattr(light, name))}"
+            for name in ("kind", "texture", *(f.name for f in dataclasses.fields(Light) if f.name not in ("kind", "texture")))
+            if name != "texture" or light.texture]
+
+
+def state_commands(editor: "Editor") -> list[str]:
+    """Commands that rebuild the 2D scene and its view exactly (floats as repr)."""
+    scene, cam = editor.lighting, editor.lighting_camera
+    lines = ["lighting.clear", f"ambient {_fmt(scene.ambient)}", f"lighting.background {scene.background}",
+             f"lighting.normalmap {scene.normal_map or 'none'}"]
+    for i, hull in enumerate(scene.hulls):
+        lines.append(f"hull.add {_fmt(tuple(hull.points.ravel().tolist()))}")
+        lines += [f"hull.set {i} {key} {_fmt(getattr(hull, key))}" for key in HULL_KEYS]
+    for i, light in enumerate(scene.lights):
+        lines.append(f"light.add {light.kind} {_fmt(light.position)}" + (f" {light.texture}" if light.texture else ""))
+        lines += light_commands(i, light)
+    lines.append(f"lighting.view {cam.cx!r} {cam.cy!r} {cam.height!r}")
+    return lines
+
+
+def register(editor: "Editor") -> None:
+    console = editor.console
+    reg = console.registry
+    history = editor.lighting_history = History2D(editor.lighting)
+
+    def scene() -> Scene2D:
+        return editor.lighting
+
+    def light_at(index: int) -> Light:
+        if not 0 <= index < len(scene().lights):
+            raise CommandError(f"no light {index}; there are {len(scene().lights)}")
+        return scene().lights[index]
+
+    def hull_at(index: int) -> Hull:
+        if not 0 <= index < len(scene().hulls):
+            raise CommandError(f"no hull {index}; there are {len(scene().hulls)}")
+        return scene().hulls[index]
+
+    def edit(key=None):
+        """Snapshot for undo before an edit; a run of edits with the same key (a drag) is one step."""
+        history.checkpoint(key)
+
+    def refused(exc: Lighting2DError):
+        return CommandError(str(exc))
+
+    def method_changed(cvar: Cvar) -> None:
+        if cvar.value not in METHODS:
+            raise CommandError(f"r_shadowMethod must be one of {', '.join(METHODS)}, got {cvar.value!r}")
+
+    reg.add_cvar(Cvar("r_shadowMethod", str, "exact", "2D soft shadows: " + ", ".join(METHODS), archive=True,
+                      on_change=[method_changed]))
+    reg.add_cvar(Cvar("r_shadowSamples", int, 16, "jitter: hard shadows averaged", min=1, max=64, archive=True))
+    reg.add_cvar(Cvar("r_shadowBlur", float, 0.25, "blur: Gaussian sigma as a share of the light radius",
+                      min=0.01, max=4.0, archive=True))
+    reg.add_cvar(Cvar("r_lightmapScale", float, 1.0, "2D lightmap resolution relative to the screen",
+                      min=0.125, max=1.0, archive=True))
+    reg.add_cvar(Cvar("r_normalMaps", bool, True, "normal-mapped 2D lighting where lights have a height", archive=True))
+    reg.add_cvar(Cvar("r_flipY", bool, False, "2D world with y pointing down (screen coordinates)"))
+    reg.add_cvar(Cvar("r_debug2d", bool, False, "draw hulls, lights and their reach as wireframe", archive=True))
+
+    # ---- scene -------------------------------------------------------------------------------------
+
+    @reg.command("lighting.clear", "", "Empty the 2D scene (ambient, view and images stay)")
+    def clear() -> None:
+        edit()
+        scene().lights.clear()
+        scene().hulls.clear()
+        scene().touch()
+
+    @reg.command("lighting.sample", "name", "Load a sample 2D scene: " + ", ".join(sample_names()),
+                 completer=lambda p: [n for n in sample_names() if n.startswith(p)])
+    def sample(name: str) -> None:
+        path = SCENES / f"{name}.json"
+        if not path.is_file():
+            raise CommandError(f"no sample scene {name!r}; there are {', '.join(sample_names())}")
+        load(path)
+
+    def load(path) -> None:
+        try:
+            loaded = scene_file.load(path)
+        except (Lighting2DError, OSError) as exc:
+            raise CommandError(str(exc)) from None
+        edit()
+        editor.replace_lighting(loaded)
+        console.print(f"loaded {len(loaded.lights)} lights and {len(loaded.hulls)} hulls from {Path(path).name}")
+
+    editor.load_lighting = load
+
+    @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)")
+    def ambient(r: float, g: float, b: float) -> None:
+        try:
+            value = Scene2D(ambient=(r, g, b)).ambient
+        except Lighting2DError as exc:
+            raise refused(exc) from None
+        edit()
+        scene().ambient = value
+        scene().touch()
+
+    @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path")
+    def background(name: str) -> None:
+        _check_image(name)
+        edit()
+        scene().background = name
+        scene().touch()
+
+    @reg.command("lighting.normalmap", "image", "Normals for lights with a height: builtin:NAME, a PNG path, or none")
+    def normalmap(name: str) -> None:
+        if name != "none":
+            _check_image(name)
+        edit()
+        scene().normal_map = None if name == "none" else name
+        scene().touch()
+
+    @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
+                 quiet=True)
+    def view(cx: float, cy: float, height: float) -> None:
+        if not (math.isfinite(cx) and math.isfinite(cy) and math.isfinite(height)) or height <= 0:
+            raise CommandError(f"the view needs a finite centre and a height > 0, got {cx:g} {cy:g} {height:g}")
+        cam = editor.lighting_camera
+        cam.cx, cam.cy, cam.height = cx, cy, height
+
+    # ---- lights ------------------------------------------------------------------------------------
+
+    @reg.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
+                 completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)])
+    def light_add(kind: str, x: float, y: float, texture: str | None = None) -> None:
+        extra = {"origin": (0.0, 0.5), "scale": (300.0, 200.0)} if kind == "spot" else {}
+        if kind == "textured":
+            texture = texture or "builtin:window"
+            _check_image(texture)
+            extra["radius"] = 5.0
+        try:
+            light = Light(kind=kind, position=(x, y), texture=texture, **extra)
+        except Lighting2DError as exc:
+            raise refused(exc) from None
+        edit()
+        scene().lights.append(light)
+        scene().touch()
+        console.print(f"light {len(scene().lights) - 1}: {kind} at ({x:g}, {y:g})")
+
+    @reg.command("light.set", "index:int property values...", "Set a light's property (light.list shows them)",
+                 completer=lambda p: [k for k in sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS
+                                                         | {"ignored_hulls"}) if k.startswith(p)])
+    def light_set(index: int, key: str, values: list[str]) -> None:
+        light = light_at(index)
+        value = _parse_light_value(key, values)
+        if key == "texture" and value:
+            _check_image(value)
+        try:
+            changed = dataclasses.replace(light, **{key: value})
+        except Lighting2DError as exc:
+            raise refused(exc) from None
+        if changed == light:
+            return
+        edit(("light.set", index, key))
+        scene().lights[index] = changed
+        scene().touch()
+
+    @reg.command("light.move", "index:int x:float y:float", "Move a light's centre (a drag is one undo step)",
+                 quiet=True)
+    def light_move(index: int, x: float, y: float) -> None:
+        light_set(index, "position", [repr(x), repr(y)])
+
+    @reg.command("light.remove", "index:int", "Remove a light")
+    def light_remove(index: int) -> None:
+        light_at(index)
+        edit()
+        del scene().lights[index]
+        scene().touch()
+
+    @reg.command("light.list", "", "List the lights and their properties", recorded=False)
+    def light_list() -> None:
+        for i, light in enumerate(scene().lights):
+            props = ", ".join(f"{f.name} {_fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
+            console.print(f"light {i}: {props}")
+        console.print(f"{len(scene().lights)} lights")
+
+    # ---- hulls -------------------------------------------------------------------------------------
+
+    def coords(values: list[float], at_least: int = 1) -> np.ndarray:
+        if len(values) % 2 or len(values) < 2 * at_least:
+            raise CommandError("give points as x1 y1 [x2 y2 ...]")
+        return np.array(values, dtype=np.float64).reshape(-1, 2)
+
+    def report(index: int) -> None:
+        hull = scene().hulls[index]
+        if not hull.valid:
+            console.print(f"hull {index} is invalid and ignored: {hull.invalid_reason}")
+
+    @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
+    def hull_add(values: list[float]) -> None:
+        try:
+            hull = Hull(coords(values))
+        except Lighting2DError as exc:
+            raise refused(exc) from None
+        edit()
+        scene().hulls.append(hull)
+        scene().touch()
+        console.print(f"hull {len(scene().hulls) - 1}: {len(hull.points)} points")
+        report(len(scene().hulls) - 1)
+
+    @reg.command("hull.set", "index:int property values...", "Set a hull's position, origin, rotation, scale or enabled",
+                 completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)])
+    def hull_set(index: int, key: str, values: list[str]) -> None:
+        hull = hull_at(index)
+        if key not in HULL_KEYS:
+            raise CommandError(f"hulls have no property {key!r}; there are {', '.join(HULL_KEYS)}")
+        try:
+            if key == "enabled":
+                value = values == ["1"] or values == ["true"] or values == ["on"]
+            else:
+                numbers = [float(v) for v in values]
+                if len(numbers) != (1 if key == "rotation" else 2):
+                    raise CommandError(f"hull {key} takes {1 if key == 'rotation' else 2} numbers")
+                value = numbers[0] if key == "rotation" else tuple(numbers)
+        except ValueError:
+            raise CommandError(f"hull {key}: cannot read {' '.join(values)!r}") from None
+        if getattr(hull, key) == value:
+            return
+        transform = {k: getattr(hull, k) for k in ("position", "origin", "rotation", "scale")}
+        if key != "enabled":
+            transform[key] = value
+            try:
+                Hull(hull.points, **transform)  # validate before anything changes
+            except Lighting2DError as exc:
+                raise refused(exc) from None
+        edit(("hull.set", index, key))
+        if key == "enabled":
+            hull.enabled = value
+        else:
+            hull.set_transform(**transform)
+        scene().touch()
+
+    @reg.command("hull.move", "index:int x:float y:float", "Move a hull's position (a drag is one undo step)",
+                 quiet=True)
+    def hull_move(index: int, x: float, y: float) -> None:
+        hull_set(index, "position", [repr(x), repr(y)])
+
+    def set_points(index: int, points: np.ndarray, key) -> None:
+        hull = hull_at(index)
+        try:
+            Hull(points)  # refuse non-finite input before anything changes
+        except Lighting2DError as exc:
+            raise refused(exc) from None
+        edit(key)
+        hull.set_points(points)
+        scene().touch()
+        report(index)
+
+    @reg.command("hull.points", "index:int coords:float...", "Replace a hull's local points")
+    def hull_points(index: int, values: list[float]) -> None:
+        set_points(index, coords(values), None)
+
+    @reg.command("hull.vertex", "index:int vertex:int x:float y:float", "Move one vertex (local coordinates)",
+                 quiet=True)
+    def hull_vertex(index: int, vertex: int, x: float, y: float) -> None:
+        points = hull_at(index).points.copy()
+        if not 0 <= vertex < len(points):
+            raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
+        points[vertex] = (x, y)
+        set_points(index, points, ("hull.vertex", index, vertex))
+
+    @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)")
+    def hull_insert(index: int, vertex: int, x: float, y: float) -> None:
+        points = hull_at(index).points
+        if not 0 <= vertex <= len(points):
+            raise CommandError(f"hull {index}: insert position must be 0..{len(points)}, got {vertex}")
+        set_points(index, np.insert(points, vertex, (x, y), axis=0), None)
+
+    @reg.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull")
+    def hull_delete(index: int, vertex: int) -> None:
+        points = hull_at(index).points
+        if not 0 <= vertex < len(points):
+            raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
+        set_points(index, np.delete(points, vertex, axis=0), None)
+
+    @reg.command("hull.remove", "index:int", "Remove a hull")
+    def hull_remove(index: int) -> None:
+        hull_at(index)
+        edit()
+        del scene().hulls[index]
+        for light in scene().lights:  # ignored-hull indices follow the hulls that stay
+            light.ignored_hulls = tuple(i - (i > index) for i in light.ignored_hulls if i != index)
+        scene().touch()
+
+    @reg.command("hull.list", "", "List the hulls", recorded=False)
+    def hull_list() -> None:
+        for i, hull in enumerate(scene().hulls):
+            state = "valid" if hull.valid else f"INVALID ({hull.invalid_reason})"
+            console.print(f"hull {i}: {len(hull.points)} points at ({hull.position[0]:g}, {hull.position[1]:g}), "
+                          f"rotation {hull.rotation:g}, scale {_fmt(hull.scale)}, "
+                          f"{'enabled' if hull.enabled else 'disabled'}, {state}")
+        console.print(f"{len(scene().hulls)} hulls")
+
+
+def _check_image(name: str) -> None:
+    try:
+        image(name)
+    except Lighting2DError as exc:
+        raise CommandError(str(exc)) from None
