@@ -99,7 +99,7 @@ class Lighting2DRenderer:
             self._index = SceneIndex(scene)
             self._geometry.clear()
         w, h = (max(1, round(v * settings.lightmap_scale)) for v in size)
-        lightmap, fbo = self._target("lightmap", (w, h), 4, "f2")
+        lightmap, fbo = self._target("lightmap", (w, h), 4, "f2", depth=True)
         fbo.scissor = None
         _bind(fbo, ALL)
         fbo.clear(*scene.ambient, 1.0)
@@ -154,7 +154,8 @@ class Lighting2DRenderer:
         self._light_pass(fbo, scene, light, common, settings)
 
     def _edge_mask(self, fbo, light, common, soft: bool, emit=(0.0, 0.0), color_mask=ALPHA) -> None:
-        program = self._program("light2d_edges", common, u_soft=soft, u_radius=float(light.radius), u_emit=emit)
+        program = self._program("light2d_edges", common, u_soft=soft, u_cover=False, u_radius=float(light.radius),
+                                u_emit=emit)
         _bind(fbo, color_mask)
         if soft:  # Penumbra: subtract each edge's occlusion, then clamp at 0 (overlaps would go negative)
             self.ctx.enable(moderngl.BLEND)
@@ -199,6 +200,26 @@ class Lighting2DRenderer:
         self._mask_into_alpha(fbo, mask, (1.0, 0.0, 0.0, 0.0), blend=False)
 
     def _exact_mask(self, fbo, light, geometry, common, settings: Shading2D) -> None:
+        """Mark in the depth buffer where any edge's shadow from any point of the disc can fall (the
+        cover), then run the per-pixel coverage only there; elsewhere the mask keeps its 1."""
+        self._upload(self._edges, geometry.edges)
+        fbo.depth_mask = True
+        _bind(fbo, (False, False, False, False))
+        fbo.clear(depth=1.0, viewport=fbo.scissor)
+        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.depth_func = "<="
+        self.ctx.disable(moderngl.BLEND)
+        cover = self._program("light2d_edges", common, u_soft=False, u_cover=True, u_radius=float(light.radius))
+        self._edge_vaos.get(cover).render(moderngl.TRIANGLES, vertices=self._edge_count)
+        fbo.depth_mask = False
+        self.ctx.depth_func = "=="
+        try:
+            self._exact_pass(fbo, light, geometry, common, settings)
+        finally:
+            self.ctx.disable(moderngl.DEPTH_TEST)
+            fbo.depth_mask = True
+
+    def _exact_pass(self, fbo, light, geometry, common, settings: Shading2D) -> None:
         texels = geometry.pieces
         rows = max(1, -(-len(texels) // 1024))
         if self._pieces is None or self._pieces.height < rows:
@@ -302,16 +323,18 @@ class Lighting2DRenderer:
         if buffer is self._edges:
             self._edge_count = len(data)
 
-    def _target(self, name: str, size, components: int, dtype: str):
+    def _target(self, name: str, size, components: int, dtype: str, depth: bool = False):
         held = self._targets.get(name)
         if held is None or held[0].size != tuple(size):
             if held is not None:
-                held[1].release()
-                held[0].release()
+                for item in held[::-1]:
+                    if item is not None:
+                        item.release()
             tex = self.ctx.texture(tuple(size), components, dtype=dtype)
             tex.repeat_x = tex.repeat_y = False
-            held = self._targets[name] = (tex, self.ctx.framebuffer([tex]))
-        return held
+            rb = self.ctx.depth_renderbuffer(tuple(size)) if depth else None
+            held = self._targets[name] = (tex, self.ctx.framebuffer([tex], rb), rb)
+        return held[:2]
 
     def _texture(self, name: str, repeat: bool) -> moderngl.Texture:
         key = f"{name}|{repeat}"

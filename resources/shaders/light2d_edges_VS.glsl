@@ -7,12 +7,15 @@ in vec2 in_s;             // x: which end (0 = A, 1 = B); y: 1 = projected away
 uniform float u_radius;   // penumbra: the emitting disc; hard: unused
 uniform vec2 u_emit;      // hard: the emitting point (a jittered sample of the disc)
 uniform bool u_soft;
+uniform bool u_cover;     // the exact method's cover: every edge, from the disc's outer tangent points
 uniform vec2 u_scale;
 uniform vec2 u_light_clip;
 out vec2 v_penumbra_a;
 out vec2 v_penumbra_b;
 out float v_clip;
 out float v_soft;
+
+float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
 void main() {
     vec2 position = mix(in_a, in_b, in_s.x);
@@ -28,6 +31,17 @@ void main() {
         v_penumbra_a = inverse(mat2(offset_a, a1)) * (projected.xy - in_a * projected.w);
         v_penumbra_b = inverse(mat2(offset_b, b1)) * (projected.xy - in_b * projected.w);
         v_soft = 1.0;
+    } else if (u_cover) {
+        // each end's outer boundary: the tangent from the end to the disc, on the far side from the
+        // other end; the quads of all edges cover every pixel the hull can shadow (or is)
+        vec2 ua = normalize(in_a), ub = normalize(in_b);
+        float ta = -sign(cross2(ua, in_b - in_a)) * asin(min(u_radius / length(in_a), 1.0));
+        float tb = -sign(cross2(ub, in_a - in_b)) * asin(min(u_radius / length(in_b), 1.0));
+        vec2 da = vec2(ua.x * cos(ta) - ua.y * sin(ta), ua.x * sin(ta) + ua.y * cos(ta));
+        vec2 db = vec2(ub.x * cos(tb) - ub.y * sin(tb), ub.x * sin(tb) + ub.y * cos(tb));
+        projected = in_s.y > 0.5 ? vec4(mix(da, db, in_s.x), 0.0, 0.0) : vec4(position, 0.0, 1.0);
+        v_penumbra_a = v_penumbra_b = vec2(0.0, 1.0);
+        v_soft = 0.0;
     } else {
         projected = vec4(position - u_emit * in_s.y, 0.0, 1.0 - in_s.y);
         // only edges facing away from the emitter cast (the hull pass decides the hull itself)
