@@ -154,7 +154,8 @@ class Lighting2DRenderer:
         self._light_pass(fbo, scene, light, common, settings)
 
     def _edge_mask(self, fbo, light, common, soft: bool, emit=(0.0, 0.0), color_mask=ALPHA) -> None:
-        program = self._program("light2d_edges", common, u_soft=soft, u_cover=False, u_radius=float(light.radius),
+        program = self._program("light2d_edges", common, u_soft=soft, u_cover=False, u_umbra=False,
+                                u_radius=float(light.radius),
                                 u_emit=emit)
         _bind(fbo, color_mask)
         if soft:  # Penumbra: subtract each edge's occlusion, then clamp at 0 (overlaps would go negative)
@@ -209,8 +210,14 @@ class Lighting2DRenderer:
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<="
         self.ctx.disable(moderngl.BLEND)
-        cover = self._program("light2d_edges", common, u_soft=False, u_cover=True, u_radius=float(light.radius))
+        cover = self._program("light2d_edges", common, u_soft=False, u_cover=True, u_umbra=False,
+                              u_radius=float(light.radius))
         self._edge_vaos.get(cover).render(moderngl.TRIANGLES, vertices=self._edge_count)
+        if light.shadow_type == "solid" and not geometry.touching:
+            # where one edge alone hides the whole disc the mask is 0: write it, nearer, and skip those pixels
+            _bind(fbo, ALPHA)
+            cover["u_umbra"].value = True
+            self._edge_vaos.get(cover).render(moderngl.TRIANGLES, vertices=self._edge_count)
         fbo.depth_mask = False
         self.ctx.depth_func = "=="
         try:

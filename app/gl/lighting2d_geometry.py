@@ -36,7 +36,9 @@ class LightGeometry:
         edges, triangles, texels = [], [], []
         touching = False
         hulls = index.casters(light)
-        for h in hulls:
+        if len(hulls) >= 4096:
+            raise ValueError("a light can take at most 4,095 hulls in reach")  # the packing below
+        for local, h in enumerate(hulls):
             outline = scene.hulls[h].world() - centre
             a, b = outline, np.roll(outline, -1, axis=0)
             per_edge = np.concatenate([a, b], axis=1)                          # (k, 4)
@@ -47,7 +49,8 @@ class LightGeometry:
                 fan = np.stack([np.repeat(rel[:1], n - 2, axis=0), rel[1:-1], rel[2:]], axis=1).reshape(-1, 2)
                 triangles.append(fan)
                 mid = rel.mean(axis=0)
-                head = np.array([[n, h, 0, 0], [mid[0], mid[1], np.linalg.norm(rel - mid, axis=1).max(), 0]])
+                # one header texel: centre, bounding radius, and n with the hull's ordinal in this light
+                head = np.array([[mid[0], mid[1], np.linalg.norm(rel - mid, axis=1).max(), n + 4096 * local]])
                 verts = rel if n % 2 == 0 else np.concatenate([rel, rel[:1]])
                 texels.append(np.concatenate([head, verts.reshape(-1, 4)]))
                 touching = touching or (light.radius > 0 and _distance_to_origin(rel) <= light.radius)

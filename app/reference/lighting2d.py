@@ -28,23 +28,26 @@ def render(scene: Scene2D, width: int, height: int, view=None, samples: int = 64
     """The lightmap (height, width, 3) float64, clamped to 0..1, row 0 at the top of the view."""
     world = pixel_world(view or scene.view, width, height, flip_y)
     textures = textures_for(scene)
+    index = SceneIndex(scene)
     out = np.broadcast_to(np.asarray(scene.ambient, dtype=np.float64), (height * width, 3)).copy()
     for light in scene.lights:
-        contribution = light_contribution(scene, light, world, textures, samples)
+        contribution = light_contribution(scene, light, world, textures, samples, index)
         if contribution is not None:
             out += contribution
     return np.clip(out, 0.0, 1.0).reshape(height, width, 3)
 
 
-def blockers(scene: Scene2D, light: Light) -> list[tuple[int, np.ndarray]]:
-    """(hull index, convex world piece) of every enabled, valid hull the light does not ignore."""
-    return [(i, piece) for i, hull in enumerate(scene.hulls)
-            if hull.enabled and hull.valid and i not in light.ignored_hulls for piece in hull.world_pieces()]
+def blockers(scene: Scene2D, light: Light, index: SceneIndex | None = None) -> list[tuple[int, np.ndarray]]:
+    """(hull index, convex world piece) of every enabled, valid hull the light does not ignore that can
+    reach its quad (the others cannot shadow anything it lights)."""
+    index = index or SceneIndex(scene)
+    return [(i, piece) for i in index.casters(light) for piece in scene.hulls[i].world_pieces()]
 
 
-def light_contribution(scene, light, world, textures, samples=64):
+def light_contribution(scene, light, world, textures, samples=64, index=None):
     """Added colour (n, 3) of one light at world points (n, 2), or None when it adds nothing."""
-    if not light.enabled or SceneIndex(scene).centre_blocked(light):
+    index = index or SceneIndex(scene)
+    if not light.enabled or index.centre_blocked(light):
         return None
     value = light_value(light, world, textures)
     lit = np.flatnonzero(value.max(axis=1) > 0)
@@ -53,13 +56,13 @@ def light_contribution(scene, light, world, textures, samples=64):
     if scene.normal_map and light.height > 0:
         value[lit] *= normal_factor(light, world[lit], textures[scene.normal_map])[:, None]
     if light.casts_shadows:
-        value[lit] *= visibility(scene, light, world[lit], samples)[:, None]
+        value[lit] *= visibility(scene, light, world[lit], samples, index)[:, None]
     return value
 
 
-def visibility(scene: Scene2D, light: Light, points: np.ndarray, samples: int = 64) -> np.ndarray:
+def visibility(scene: Scene2D, light: Light, points: np.ndarray, samples: int = 64, index=None) -> np.ndarray:
     """Visible fraction of the light's disc from each point (n,), with the hull semantics applied."""
-    pieces = blockers(scene, light)
+    pieces = blockers(scene, light, index)
     out = np.empty(len(points))
     for start in range(0, len(points), CHUNK):
         out[start:start + CHUNK] = _visibility_block(light, pieces, points[start:start + CHUNK], samples)

@@ -7,7 +7,7 @@
 // Pieces that touch the disc break the interval picture; there the disc is sampled (u_touching).
 in vec2 v_uv;
 in vec2 v_rel;                 // this pixel, relative to the light's centre
-uniform sampler2D u_pieces;    // per piece: (n, hull, 0, 0), (centre x, y, bounding radius, 0), n/2 texels of vertices
+uniform sampler2D u_pieces;    // per piece: (centre x, y, bounding radius, n + 4096 hull), n/2 texels of vertices
 uniform int u_begin;
 uniform int u_end;
 uniform float u_radius;
@@ -21,6 +21,8 @@ const float PI = 3.14159265358979;
 const float BIG = 1e30;
 
 vec4 fetch(int i) { return texelFetch(u_pieces, ivec2(i & 1023, i >> 10), 0); }
+int count_of(vec4 head) { return int(mod(head.w, 4096.0)); }
+int hull_of(vec4 head) { return int(head.w / 4096.0); }
 vec2 vertex_at(int base, int k) { vec4 t = fetch(base + (k >> 1)); return (k & 1) == 0 ? t.xy : t.zw; }
 
 float g(float x) {
@@ -57,17 +59,32 @@ float enter_at(vec2 p, vec2 d, int base, int n) {
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
+// A cheap stand-in for the angle from `ref` to `v` (-2..2, monotonic in the angle over (-pi, pi)):
+// finding a piece's extreme vertices needs no atan.
+float pseudo_angle(vec2 ref, vec2 v) {
+    float x = dot(ref, v), y = cross2(ref, v);
+    float p = y / (abs(x) + abs(y) + 1e-30);
+    return x >= 0.0 ? p : (y >= 0.0 ? 2.0 - p : -2.0 - p);
+}
+
+// Can the piece's bounding circle meet the segments from p to the disc? They all lie within
+// radius r of the segment from p to the disc's centre (the origin).
+bool may_block(vec2 p, vec4 bound, float r) {
+    float t = clamp(dot(bound.xy - p, -p) / max(dot(p, p), 1e-30), 0.0, 1.0);
+    return distance(bound.xy, p * (1.0 - t)) <= bound.z + r;
+}
+
 // The hull containing p (-1 if none); solid and illuminated hulls settle the pixel at once.
 int containing_hull(vec2 p, out bool settled, out float value) {
     settled = false;
     for (int i = u_begin; i < u_end;) {
-        vec4 head = fetch(i), bound = fetch(i + 1);
-        int n = int(head.x);
-        if (distance(p, bound.xy) <= bound.z && inside(p, i + 2, n)) {
+        vec4 head = fetch(i);
+        int n = count_of(head);
+        if (distance(p, head.xy) <= head.z && inside(p, i + 1, n)) {
             if (u_shadow_type != 2) { settled = true; value = u_shadow_type == 0 ? 0.0 : 1.0; }
-            return int(head.y);
+            return hull_of(head);
         }
-        i += 2 + (n + 1) / 2;
+        i += 1 + (n + 1) / 2;
     }
     return -1;
 }
@@ -82,72 +99,79 @@ float sampled(vec2 p, int own) {
         vec2 d = q - p;
         for (int i = u_begin; i < u_end;) {
             vec4 head = fetch(i);
-            int n = int(head.x);
-            if (int(head.y) != own && enter_at(p, d, i + 2, n) < 1.0) { ++hidden; break; }
-            i += 2 + (n + 1) / 2;
+            int n = count_of(head);
+            if (hull_of(head) != own && enter_at(p, d, i + 1, n) < 1.0) { ++hidden; break; }
+            i += 1 + (n + 1) / 2;
         }
     }
     return 1.0 - float(hidden) / float(u_disc_samples);
 }
 
 float visibility(vec2 p) {
-    bool settled;
-    float value;
-    int own = containing_hull(p, settled, value);
-    if (settled) return value;
-    own = u_shadow_type == 2 ? own : -1;
+    // inside a solid hull is dark, which the loops below find on their way (any early 0 is right);
+    // illuminated and occluded hulls need the pixel's own hull first
+    int own = -1;
+    if (u_shadow_type != 0) {
+        bool settled;
+        float value;
+        own = containing_hull(p, settled, value);
+        if (settled) return value;
+    }
     float dist = length(p);
     if (u_touching) return sampled(p, own);
     float r = u_radius;
     if (r <= 1e-6 * dist) {  // a point light: one ray towards the centre
         for (int i = u_begin; i < u_end;) {
             vec4 head = fetch(i);
-            int n = int(head.x);
-            if (int(head.y) != own && enter_at(p, -p / dist, i + 2, n) < dist) return 0.0;
-            i += 2 + (n + 1) / 2;
+            int n = count_of(head);
+            if (hull_of(head) != own && may_block(p, head, 0.0) && enter_at(p, -p / dist, i + 1, n) < dist)
+                return 0.0;
+            i += 1 + (n + 1) / 2;
         }
         return 1.0;
     }
     if (dist <= r) return 1.0;  // inside the disc, which no piece touches: all of it is seen
     vec2 axis = -p / dist;
-    float beta = asin(r / dist);
     float lo[MAX_INTERVALS], hi[MAX_INTERVALS];
     int count = 0;
     for (int i = u_begin; i < u_end;) {
-        vec4 head = fetch(i), bound = fetch(i + 1);
-        int n = int(head.x), base = i + 2;
-        i += 2 + (n + 1) / 2;
-        if (int(head.y) == own) continue;
-        vec2 w = bound.xy - p;
+        vec4 head = fetch(i);
+        int n = count_of(head), base = i + 1;
+        i += 1 + (n + 1) / 2;
+        if (hull_of(head) == own) continue;
+        if (!may_block(p, head, r)) continue;
+        vec2 w = head.xy - p;
         float wl = length(w);
-        if (wl > bound.z) {
-            // the piece's bounding circle misses the cone of rays towards the disc, or lies beyond it
-            if (acos(clamp(dot(w, axis) / wl, -1.0, 1.0)) - asin(bound.z / wl) > beta) continue;
-            if (wl - bound.z > dist + r) continue;
-        } else if (inside(p, base, n)) {
-            return 0.0;  // inside another hull
-        }
+        if (wl <= head.z && inside(p, base, n)) return 0.0;  // inside a solid hull, or another hull
+        // the piece's extreme vertices as seen from p (pseudo-angles about its centre's direction), then
+        // their offsets u = dist sin(angle) from the axis towards the disc, in radii
         vec2 ref = wl > 0.0 ? w / wl : normalize(vertex_at(base, 0) - p);
-        float centre = atan(cross2(axis, ref), dot(axis, ref));
-        float amin = BIG, amax = -BIG;
+        float pmin = BIG, pmax = -BIG;
+        vec2 vmin, vmax;
         for (int k = 0; k < n; ++k) {
             vec2 v = vertex_at(base, k) - p;
-            float a = atan(cross2(ref, v), dot(ref, v));
-            amin = min(amin, a);
-            amax = max(amax, a);
+            float q = pseudo_angle(ref, v);
+            if (q < pmin) { pmin = q; vmin = v; }
+            if (q > pmax) { pmax = q; vmax = v; }
         }
-        float l = centre + amin, h = centre + amax;
-        if (l > beta) { l -= 2.0 * PI; h -= 2.0 * PI; }
-        else if (h < -beta) { l += 2.0 * PI; h += 2.0 * PI; }
-        l = max(l, -beta);
-        h = min(h, beta);
-        if (l >= h) continue;
-        float m = 0.5 * (l + h);
-        vec2 d = vec2(axis.x * cos(m) - axis.y * sin(m), axis.x * sin(m) + axis.y * cos(m));
-        float s = dist * sin(m);
-        float t_disc = dist * cos(m) - sqrt(max(r * r - s * s, 0.0));
-        if (enter_at(p, d, base, n) >= t_disc) continue;  // the piece lies behind the disc
-        float ul = dist * sin(l) / r, uh = dist * sin(h) / r;
+        // going counter-clockwise from vmin to vmax (less than half a turn): an end behind p was
+        // reached past the side, so it lies beyond the disc there; both behind: the piece is behind p
+        bool front_min = dot(axis, vmin) >= 0.0, front_max = dot(axis, vmax) >= 0.0;
+        if (!front_min && !front_max) continue;
+        float ul = front_min ? dist * cross2(axis, vmin) / (length(vmin) * r) : -BIG;
+        float uh = front_max ? dist * cross2(axis, vmax) / (length(vmax) * r) : BIG;
+        ul = max(ul, -1.0);
+        uh = min(uh, 1.0);
+        if (ul >= uh) continue;
+        // behind the disc? (certainly in front when its bounding circle ends before the disc begins)
+        if (wl + head.z >= dist - r) {
+            float s = 0.5 * (ul + uh) * r / dist;  // sine of the middle ray's angle from the axis
+            float c = sqrt(max(1.0 - s * s, 0.0));
+            vec2 d = axis * c + vec2(-axis.y, axis.x) * s;
+            float t_disc = dist * c - sqrt(max(r * r - (dist * s) * (dist * s), 0.0));
+            if (enter_at(p, d, base, n) >= t_disc) continue;
+        }
+        if (ul <= -1.0 && uh >= 1.0) return 0.0;  // this piece alone hides the whole disc
         if (count < MAX_INTERVALS) {
             lo[count] = ul; hi[count] = uh; ++count;
         } else {  // more separate occluders than slots: widen the last (conservative)
