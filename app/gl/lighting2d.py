@@ -139,6 +139,8 @@ class Lighting2DRenderer:
         shadows = light.casts_shadows and geometry.hull_count > 0
         method = settings.method
         self._fill(fbo, 0.0 if shadows and method == "jitter" else 1.0, ALPHA)
+        if method == "penumbra" and light.radius == 0:
+            method = "hard"  # the seed's wedges need a disc; a point casts hard shadows (no NaN)
         if shadows:
             if method == "exact":
                 self._exact_mask(fbo, light, geometry, common, settings)
@@ -203,6 +205,9 @@ class Lighting2DRenderer:
     def _exact_mask(self, fbo, light, geometry, common, settings: Shading2D) -> None:
         """Mark in the depth buffer where any edge's shadow from any point of the disc can fall (the
         cover), then run the per-pixel coverage only there; elsewhere the mask keeps its 1."""
+        if geometry.touching:  # a hull overlaps the disc: shadows can fall anywhere, so no cover
+            self._exact_pass(fbo, light, geometry, common, settings)
+            return
         self._upload(self._edges, geometry.edges)
         fbo.depth_mask = True
         _bind(fbo, (False, False, False, False))
@@ -358,8 +363,9 @@ class Lighting2DRenderer:
 
     @staticmethod
     def _clip_transform(camera: Camera2D, w: int, h: int, flip_y: bool):
-        scale, offset = camera.scale_offset(w, h)
-        scale, offset = scale.astype(np.float64), offset.astype(np.float64)
+        sy = 2.0 / camera.height  # in double: offsets near 1e6 * scale must not round to float32
+        scale = np.array([sy * h / max(w, 1), sy])
+        offset = -np.array([camera.cx, camera.cy]) * scale
         if flip_y:
             scale[1], offset[1] = -scale[1], -offset[1]
         return scale, offset

@@ -56,7 +56,8 @@ class Lighting2DOverlay:
     def __init__(self, ctx, shaders) -> None:
         self.lines = Lines2D(ctx, shaders)
 
-    def draw(self, fbo, scene: Scene2D, camera: Camera2D, flip_y: bool, debug: bool, selection=None) -> None:
+    def draw(self, fbo, scene: Scene2D, camera: Camera2D, flip_y: bool, debug: bool, selection=None,
+             pending=None) -> None:
         unit = camera.world_per_pixel(fbo.size[1])
         groups: list[tuple[tuple, list[np.ndarray]]] = [(INVALID, []), (WIRE, []), (LIGHT, []), (SELECTED, [])]
         invalid, wire, lights, selected = (g[1] for g in groups)
@@ -82,6 +83,11 @@ class Lighting2DOverlay:
                 selected.append(square(*h["scale"], HANDLE_PX * unit))
             selected.append(np.array([[h["centre"], h["rotate"]]]))
             selected.append(circle(*h["rotate"], HANDLE_PX * unit, 12))
+        if pending:
+            points = np.asarray(pending, dtype=np.float64)
+            if len(points) > 1:
+                selected.append(np.stack([points[:-1], points[1:]], axis=1))
+            selected += [square(x, y, HANDLE_PX * unit) for x, y in points]
         for color, parts in groups:
             if parts:
                 segments = np.concatenate(parts)

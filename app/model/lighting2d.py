@@ -225,6 +225,9 @@ class Light:
             raise Lighting2DError("a textured light needs a texture")
         self.position, self.origin = tuple(map(float, self.position)), tuple(map(float, self.origin))
         self.scale = tuple(map(float, self.scale))
+        for name in ("rotation", "intensity", "radius", "cone_decay", "height"):  # 18 and 18.0 are one value
+            setattr(self, name, float(getattr(self, name)))
+        self.enabled, self.casts_shadows = bool(self.enabled), bool(self.casts_shadows)
         self.ignored_hulls = tuple(int(i) for i in self.ignored_hulls)
 
     def cone_half_angle(self) -> float:

@@ -10,6 +10,8 @@ from app.editor import Editor
 from app.model.workspace import WORKSPACES
 from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
+from app.views.lighting2d_panel import Lighting2DPanel
+from app.views.lighting2d_tool import Lighting2DTool
 from app.views.snowflake_panel import SnowflakePanel
 from app.views.slice_painter import SlicePainter
 from app.views.slice_picker import SlicePicker
@@ -17,7 +19,7 @@ from app.views.snowflake_tool import SnowflakeTool
 from app.views.viewport import Viewport
 from app.views.volume_tool import VolumeTool
 
-EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520}
+EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520, "lighting2d": 300}
 
 
 class MainWindow(QMainWindow):
@@ -30,14 +32,18 @@ class MainWindow(QMainWindow):
 
         self.viewport = Viewport(self.editor)
         self.setCentralWidget(self.viewport)
-        self.tools = {"snowflake": SnowflakeTool(self.viewport, self.run), "volume": VolumeTool(self.viewport, self.run)}
+        self.tools = {"snowflake": SnowflakeTool(self.viewport, self.run), "volume": VolumeTool(self.viewport, self.run),
+                      "lighting2d": Lighting2DTool(self.viewport, self.run)}
 
         self.panels = QStackedWidget()
         self.snowflake_panel = SnowflakePanel(self.editor, self.run)
         self.painter = SlicePainter(self.editor, self.run)
         self.placeholder = QLabel(alignment=Qt.AlignmentFlag.AlignCenter, wordWrap=True)
-        self.workspace_panels = {"snowflake": self.snowflake_panel, "volume": self.painter}
-        for panel in (self.snowflake_panel, self.painter, self.placeholder):
+        self.lighting_panel = Lighting2DPanel(self.editor, self.run, self.tools["lighting2d"])
+        self.viewport.view_changed.connect(self.lighting_panel.sync)
+        self.workspace_panels = {"snowflake": self.snowflake_panel, "volume": self.painter,
+                                 "lighting2d": self.lighting_panel}
+        for panel in (self.snowflake_panel, self.painter, self.lighting_panel, self.placeholder):
             self.panels.addWidget(panel)
         self.picker: SlicePicker | None = None
         self._register_ui_commands()
@@ -160,6 +166,7 @@ class MainWindow(QMainWindow):
         self._drawn_version = version
         self.snowflake_panel.sync()
         self.painter.sync()
+        self.lighting_panel.sync()
         self.viewport.update()
 
     def _show_workspace(self, name: str) -> None:

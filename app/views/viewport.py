@@ -23,6 +23,7 @@ class Viewport(QOpenGLWidget):
     gl_error = Signal(str)
     gl_ready = Signal(str)  # the renderer's name, once the context exists
     key_command = Signal(str)  # a bound key was pressed: run this command line
+    view_changed = Signal()    # view-only state of a tool (a selection) changed
 
     def __init__(self, editor, parent=None) -> None:
         super().__init__(parent)
@@ -110,8 +111,19 @@ class Viewport(QOpenGLWidget):
         if self.tool:
             self.tool.wheel(event)
 
+    def mouseDoubleClickEvent(self, event) -> None:
+        if self.tool and hasattr(self.tool, "double_click"):
+            self.tool.double_click(event)
+
+    def selection_changed(self) -> None:
+        """View-only state a tool draws (a selection, a hull being drawn) changed: redraw."""
+        self.view_changed.emit()
+        self.update()
+
     def keyPressEvent(self, event) -> None:
         """Keys run their `bind`ings (the current workspace's first, then the global ones)."""
+        if self.tool and hasattr(self.tool, "key") and self.tool.key(event):
+            return
         name = key_name(event.key())
         command = self.editor.binds.lookup(self.editor.workspace, name) if name else None
         if command and not event.modifiers() & (Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.AltModifier):

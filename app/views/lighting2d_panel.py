@@ -1,0 +1,224 @@
+"""The 2D lighting workspace's panel: the scene (sample, ambient, shadow method), adding lights and
+hulls, and the selected light's or hull's properties. Every change is sent as a console command;
+`sync` shows the model without sending anything back."""
+from __future__ import annotations
+
+import math
+
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox,
+                               QHBoxLayout, QLabel, QLineEdit, QPushButton, QVBoxLayout, QWidget)
+
+from app.commands.lighting2d import sample_names
+from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS, SHADOW_TYPES
+
+
+def _spin(lo: float, hi: float, step: float, decimals: int = 2) -> QDoubleSpinBox:
+    box = QDoubleSpinBox(minimum=lo, maximum=hi, singleStep=step, decimals=decimals)
+    box.setKeyboardTracking(False)
+    return box
+
+
+def _rgb(color) -> str:
+    return " ".join(f"{c:.4f}" for c in color)
+
+
+class ColorButton(QPushButton):
+    """Shows a colour; clicking opens QColorDialog and reports the choice as (r, g, b) in 0..1."""
+
+    def __init__(self, title: str, chosen) -> None:
+        super().__init__()
+        self.title = title
+        self.chosen = chosen
+        self.color = (1.0, 1.0, 1.0)
+        self.clicked.connect(self._pick)
+
+    def show_color(self, color) -> None:
+        self.color = tuple(color)
+        q = QColor.fromRgbF(*self.color)
+        self.setText(q.name())
+        self.setStyleSheet(f"background-color: {q.name()}; color: {'black' if q.lightnessF() > 0.5 else 'white'}")
+
+    def _pick(self) -> None:
+        picked = QColorDialog.getColor(QColor.fromRgbF(*self.color), self, self.title)
+        if picked.isValid():
+            self.chosen((picked.redF(), picked.greenF(), picked.blueF()))
+
+
+class Lighting2DPanel(QWidget):
+    def __init__(self, editor, run, tool=None, parent=None) -> None:
+        super().__init__(parent)
+        self.editor = editor
+        self.run = run
+        self.tool = tool
+        self._syncing = False
+        layout = QVBoxLayout(self)
+
+        scene_box = QGroupBox("Scene")
+        form = QFormLayout(scene_box)
+        self.sample = QComboBox()
+        self.sample.addItems(["(load a sample)", *sample_names()])
+        self.sample.activated.connect(self._load_sample)
+        form.addRow("Sample", self.sample)
+        self.ambient = ColorButton("Ambient colour", lambda c: self.run(f"ambient {_rgb(c)}"))
+        form.addRow("Ambient", self.ambient)
+        self.method = QComboBox()
+        self.method.addItems(SHADOW_METHODS)
+        self.method.currentTextChanged.connect(lambda m: self._send(f"r_shadowMethod {m}"))
+        form.addRow("Shadows", self.method)
+        self.debug = QCheckBox("wireframe")
+        self.debug.toggled.connect(lambda on: self._send(f"r_debug2d {int(on)}"))
+        form.addRow("Debug", self.debug)
+        add = QHBoxLayout()
+        for kind in LIGHT_KINDS:
+            button = QPushButton(f"+ {kind}")
+            button.setToolTip(f"Add a {kind} light at the view's centre")
+            button.clicked.connect(lambda _=False, k=kind: self._add_light(k))
+            add.addWidget(button)
+        form.addRow(add)
+        self.draw = QPushButton("Draw a hull (h)")
+        self.draw.setToolTip("Click points in the view; click the first point, double-click or Enter to close")
+        self.draw.clicked.connect(lambda: self.tool and self.tool.start_drawing())
+        form.addRow(self.draw)
+        layout.addWidget(scene_box)
+
+        self.light_box = QGroupBox("Light")
+        lf = QFormLayout(self.light_box)
+        self.l_kind = QComboBox()
+        self.l_kind.addItems(LIGHT_KINDS)
+        self.l_kind.currentTextChanged.connect(lambda v: self._light("kind", v))
+        self.l_x, self.l_y = _spin(-1e7, 1e7, 5), _spin(-1e7, 1e7, 5)
+        for box in (self.l_x, self.l_y):
+            box.valueChanged.connect(lambda _=0: self._light("position", f"{self.l_x.value()} {self.l_y.value()}"))
+        self.l_rot = _spin(-3600, 3600, 5, 1)
+        self.l_rot.valueChanged.connect(lambda v: self._light("rotation", repr(math.radians(v))))
+        self.l_sx, self.l_sy = _spin(0, 1e7, 10), _spin(0, 1e7, 10)
+        for box in (self.l_sx, self.l_sy):
+            box.valueChanged.connect(lambda _=0: self._light("scale", f"{self.l_sx.value()} {self.l_sy.value()}"))
+        self.l_color = ColorButton("Light colour", lambda c: self._light("color", _rgb(c)))
+        self.l_intensity = _spin(0, 100, 0.1)
+        self.l_intensity.valueChanged.connect(lambda v: self._light("intensity", repr(v)))
+        self.l_radius = _spin(0, 1e6, 1)
+        self.l_radius.valueChanged.connect(lambda v: self._light("radius", repr(v)))
+        self.l_decay = _spin(0, 100, 0.1)
+        self.l_decay.valueChanged.connect(lambda v: self._light("cone_decay", repr(v)))
+        self.l_height = _spin(0, 1e6, 5)
+        self.l_height.valueChanged.connect(lambda v: self._light("height", repr(v)))
+        self.l_enabled, self.l_shadows = QCheckBox("enabled"), QCheckBox("casts shadows")
+        self.l_enabled.toggled.connect(lambda on: self._light("enabled", str(int(on))))
+        self.l_shadows.toggled.connect(lambda on: self._light("casts_shadows", str(int(on))))
+        self.l_type = QComboBox()
+        self.l_type.addItems(SHADOW_TYPES)
+        self.l_type.currentTextChanged.connect(lambda v: self._light("shadow_type", v))
+        self.l_ignored = QLineEdit()
+        self.l_ignored.setPlaceholderText("hull numbers, e.g. 0 2")
+        self.l_ignored.editingFinished.connect(lambda: self._light("ignored_hulls", self.l_ignored.text().strip() or "none"))
+        for label, widget in (("Kind", self.l_kind), ("x", self.l_x), ("y", self.l_y), ("Rotation °", self.l_rot),
+                              ("Size x", self.l_sx), ("Size y", self.l_sy), ("Colour", self.l_color),
+                              ("Intensity", self.l_intensity), ("Radius", self.l_radius), ("Cone decay", self.l_decay),
+                              ("Height", self.l_height), ("", self.l_enabled), ("", self.l_shadows),
+                              ("Hulls", self.l_type), ("Ignores", self.l_ignored)):
+            lf.addRow(label, widget)
+        layout.addWidget(self.light_box)
+
+        self.hull_box = QGroupBox("Hull")
+        hf = QFormLayout(self.hull_box)
+        self.h_x, self.h_y = _spin(-1e7, 1e7, 5), _spin(-1e7, 1e7, 5)
+        for box in (self.h_x, self.h_y):
+            box.valueChanged.connect(lambda _=0: self._hull("position", f"{self.h_x.value()} {self.h_y.value()}"))
+        self.h_rot = _spin(-3600, 3600, 5, 1)
+        self.h_rot.valueChanged.connect(lambda v: self._hull("rotation", repr(math.radians(v))))
+        self.h_sx, self.h_sy = _spin(0, 1e6, 0.1), _spin(0, 1e6, 0.1)
+        for box in (self.h_sx, self.h_sy):
+            box.valueChanged.connect(lambda _=0: self._hull("scale", f"{self.h_sx.value()} {self.h_sy.value()}"))
+        self.h_enabled = QCheckBox("enabled")
+        self.h_enabled.toggled.connect(lambda on: self._hull("enabled", str(int(on))))
+        self.h_state = QLabel()
+        self.h_state.setWordWrap(True)
+        for label, widget in (("x", self.h_x), ("y", self.h_y), ("Rotation °", self.h_rot), ("Scale x", self.h_sx),
+                              ("Scale y", self.h_sy), ("", self.h_enabled), ("", self.h_state)):
+            hf.addRow(label, widget)
+        layout.addWidget(self.hull_box)
+        self.help = QLabel("Click: select · drag: move · round handle: rotate · square: scale\n"
+                           "hull vertices: drag, double-click edge: insert, right click: delete\n"
+                           "Delete: remove · empty drag / right drag: pan · wheel: zoom · h: draw a hull")
+        self.help.setWordWrap(True)
+        layout.addWidget(self.help)
+        layout.addStretch(1)
+        self.sync()
+
+    # ---- sending -----------------------------------------------------------------------------------
+
+    def _send(self, line: str) -> None:
+        if not self._syncing:
+            self.run(line)
+
+    def _load_sample(self, index: int) -> None:
+        if index > 0:
+            self.run(f"lighting.sample {self.sample.itemText(index)}")
+
+    def _add_light(self, kind: str) -> None:
+        cam = self.editor.lighting_camera
+        self.run(f"light.add {kind} {cam.cx:.3f} {cam.cy:.3f}")
+        self.editor.lighting_selection = ("light", len(self.editor.lighting.lights) - 1)
+        self.sync()
+
+    def _selected(self, kind: str):
+        sel = getattr(self.editor, "lighting_selection", None)
+        if sel is None or sel[0] != kind:
+            return None
+        items = self.editor.lighting.lights if kind == "light" else self.editor.lighting.hulls
+        return sel[1] if 0 <= sel[1] < len(items) else None
+
+    def _light(self, key: str, value: str) -> None:
+        i = self._selected("light")
+        if i is not None:
+            self._send(f"light.set {i} {key} {value}")
+
+    def _hull(self, key: str, value: str) -> None:
+        i = self._selected("hull")
+        if i is not None:
+            self._send(f"hull.set {i} {key} {value}")
+
+    # ---- showing -----------------------------------------------------------------------------------
+
+    def sync(self) -> None:
+        self._syncing = True
+        try:
+            scene = self.editor.lighting
+            cvars = self.editor.console.registry.cvars
+            self.ambient.show_color(scene.ambient)
+            self.method.setCurrentText(cvars["r_shadowMethod"].value)
+            self.debug.setChecked(cvars["r_debug2d"].value)
+            li, hi = self._selected("light"), self._selected("hull")
+            self.light_box.setVisible(li is not None)
+            self.hull_box.setVisible(hi is not None)
+            if li is not None:
+                self.light_box.setTitle(f"Light {li}")
+                light = scene.lights[li]
+                self.l_kind.setCurrentText(light.kind)
+                for box, value in ((self.l_x, light.position[0]), (self.l_y, light.position[1]),
+                                   (self.l_rot, math.degrees(light.rotation)), (self.l_sx, light.scale[0]),
+                                   (self.l_sy, light.scale[1]), (self.l_intensity, light.intensity),
+                                   (self.l_radius, light.radius), (self.l_decay, light.cone_decay),
+                                   (self.l_height, light.height)):
+                    box.setValue(value)
+                self.l_color.show_color(light.color)
+                self.l_enabled.setChecked(light.enabled)
+                self.l_shadows.setChecked(light.casts_shadows)
+                self.l_type.setCurrentText(light.shadow_type)
+                self.l_ignored.setText(" ".join(map(str, light.ignored_hulls)))
+                self.l_decay.setEnabled(light.kind == "spot")
+            if hi is not None:
+                hull = scene.hulls[hi]
+                self.hull_box.setTitle(f"Hull {hi} · {len(hull.points)} points")
+                for box, value in ((self.h_x, hull.position[0]), (self.h_y, hull.position[1]),
+                                   (self.h_rot, math.degrees(hull.rotation)), (self.h_sx, hull.scale[0]),
+                                   (self.h_sy, hull.scale[1])):
+                    box.setValue(value)
+                self.h_enabled.setChecked(hull.enabled)
+                self.h_state.setText("valid" if hull.valid else f"INVALID, ignored: {hull.invalid_reason}")
+                self.h_state.setStyleSheet("" if hull.valid else "color: #ff5050")
+        finally:
+            self._syncing = False
