@@ -193,6 +193,8 @@ class Lighting2DTool:
                 self.run(f"hull.vertex {i} {vertex} {local[0]:.5f} {local[1]:.5f}")
 
     def release(self, event) -> None:
+        if self._drag is not None and self._drag[0] != "pan":
+            self.move(event)  # the release point is where the drag ends, whatever moves were merged
         self._drag = None
 
     def double_click(self, event) -> None:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QColor, QKeySequence
-from PySide6.QtWidgets import QColorDialog, QDockWidget, QLabel, QMainWindow, QStackedWidget
+from PySide6.QtWidgets import QColorDialog, QDockWidget, QFrame, QLabel, QMainWindow, QScrollArea, QStackedWidget
 
 from app.console import files
 from app.editor import Editor
@@ -41,9 +41,13 @@ class MainWindow(QMainWindow):
         self.placeholder = QLabel(alignment=Qt.AlignmentFlag.AlignCenter, wordWrap=True)
         self.lighting_panel = Lighting2DPanel(self.editor, self.run, self.tools["lighting2d"])
         self.viewport.view_changed.connect(self.lighting_panel.sync)
+        # in a scroll area: showing a selection's properties must not resize the dock (and the view under
+        # the mouse in the middle of a drag)
+        lighting_scroll = QScrollArea(widgetResizable=True, frameShape=QFrame.Shape.NoFrame)
+        lighting_scroll.setWidget(self.lighting_panel)
         self.workspace_panels = {"snowflake": self.snowflake_panel, "volume": self.painter,
-                                 "lighting2d": self.lighting_panel}
-        for panel in (self.snowflake_panel, self.painter, self.lighting_panel, self.placeholder):
+                                 "lighting2d": lighting_scroll}
+        for panel in (self.snowflake_panel, self.painter, lighting_scroll, self.placeholder):
             self.panels.addWidget(panel)
         self.picker: SlicePicker | None = None
         self._register_ui_commands()

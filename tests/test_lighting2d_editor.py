@@ -1,0 +1,109 @@
+"""The 2D lighting editor with a real window (pytest-qt on Xvfb): selecting and dragging lights, handles,
+drawing hulls by clicking, vertex edits and the property panel, each landing as console commands."""
+import math
+
+from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
+from PySide6.QtGui import QMouseEvent
+from PySide6.QtWidgets import QApplication
+
+
+def pixel(window, x, y) -> QPoint:
+    cam, vp = window.editor.lighting_camera, window.viewport
+    unit = cam.world_per_pixel(vp.height())
+    return QPoint(round((x - cam.cx) / unit + vp.width() / 2), round(vp.height() / 2 - (y - cam.cy) / unit))
+
+
+def move_to(widget, pos: QPoint) -> None:
+    """A move with the left button held, delivered as it is (QTest's moves go through the X cursor)."""
+    local = QPointF(pos)
+    event = QMouseEvent(QEvent.Type.MouseMove, local, QPointF(widget.mapToGlobal(pos)), Qt.MouseButton.NoButton,
+                        Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier)
+    QApplication.sendEvent(widget, event)
+
+
+def drag(qtbot, widget, start: QPoint, end: QPoint, steps: int = 5) -> None:
+    qtbot.mousePress(widget, Qt.MouseButton.LeftButton, pos=start)
+    for k in range(1, steps + 1):
+        move_to(widget, start + (end - start) * k / steps)
+    qtbot.mouseRelease(widget, Qt.MouseButton.LeftButton, pos=end)
+
+
+def open_2d(window, qtbot):
+    window.run("workspace lighting2d")
+    window.run("lighting.clear")
+    window.run("lighting.view 0 0 400")
+    qtbot.waitUntil(lambda: window.viewport.tool is window.tools["lighting2d"])
+
+
+def test_a_light_is_selected_and_dragged_in_one_undo_step(window, qtbot):
+    open_2d(window, qtbot)
+    window.run("light.add point 0 0")
+    before = window.editor.digest()
+    vp = window.viewport
+    drag(qtbot, vp, pixel(window, 0, 0), pixel(window, 60, -40))
+    assert window.editor.lighting_selection == ("light", 0)
+    x, y = window.editor.lighting.lights[0].position
+    assert math.dist((x, y), (60, -40)) < 3
+    assert window.lighting_panel.light_box.isVisible() and abs(window.lighting_panel.l_x.value() - x) < 0.01
+    window.run("undo")
+    assert window.editor.digest() == before
+
+
+def test_the_rotate_handle_turns_the_selection(window, qtbot):
+    open_2d(window, qtbot)
+    window.run("hull.add -20 -20 20 -20 20 20 -20 20")
+    vp = window.viewport
+    qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 0, 0))
+    assert window.editor.lighting_selection == ("hull", 0)
+    unit = window.editor.lighting_camera.world_per_pixel(vp.height())
+    handle = (40 * unit, 0.0)  # the round handle sits 40 px along the hull's rotation
+    drag(qtbot, vp, pixel(window, *handle), pixel(window, 0, 40 * unit))
+    assert abs(window.editor.lighting.hulls[0].rotation - math.pi / 2) < 0.1
+
+
+def test_a_hull_is_drawn_by_clicking_points(window, qtbot):
+    open_2d(window, qtbot)
+    vp = window.viewport
+    vp.setFocus()
+    qtbot.keyClick(vp, Qt.Key.Key_H)
+    for x, y in ((-50, -50), (50, -50), (0, 60)):
+        qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, x, y))
+    qtbot.keyClick(vp, Qt.Key.Key_Return)
+    hulls = window.editor.lighting.hulls
+    assert len(hulls) == 1 and hulls[0].valid and len(hulls[0].points) == 3
+    assert window.editor.lighting_selection == ("hull", 0)
+
+
+def test_vertices_are_dragged_inserted_and_deleted(window, qtbot):
+    open_2d(window, qtbot)
+    window.run("hull.add -40 -40 40 -40 40 40 -40 40")
+    vp = window.viewport
+    qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 0, 0))
+    drag(qtbot, vp, pixel(window, 40, 40), pixel(window, 70, 60))
+    hull = window.editor.lighting.hulls[0]
+    assert math.dist(tuple(hull.points[2]), (70, 60)) < 3
+    qtbot.mouseDClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 0, -40))  # on the bottom edge
+    assert len(hull.points) == 5
+    qtbot.mouseClick(vp, Qt.MouseButton.RightButton, pos=pixel(window, 70, 60))
+    assert len(hull.points) == 4
+
+
+def test_an_invalid_hull_shows_its_reason_in_the_panel(window, qtbot):
+    open_2d(window, qtbot)
+    window.run("hull.add -40 -40 40 40 40 -40 -40 40")  # a bow tie
+    window.editor.lighting_selection = ("hull", 0)
+    window.lighting_panel.sync()
+    assert "cross" in window.lighting_panel.h_state.text()
+
+
+def test_panel_edits_are_commands(window, qtbot):
+    open_2d(window, qtbot)
+    window.run("light.add point 0 0")
+    window.editor.lighting_selection = ("light", 0)
+    window.lighting_panel.sync()
+    window.lighting_panel.l_radius.setValue(33)
+    assert window.editor.lighting.lights[0].radius == 33
+    window.lighting_panel.method.setCurrentText("penumbra")
+    assert window.editor.console.registry.cvars["r_shadowMethod"].value == "penumbra"
+    window.run("undo")
+    assert window.editor.lighting.lights[0].radius == 20
