@@ -111,6 +111,19 @@ def register(editor: "Editor") -> None:
     def refused(exc: Lighting2DError):
         return CommandError(str(exc))
 
+    def make(model, **values):
+        """The model's constructor, its refusal as the command's message."""
+        try:
+            return model(**values)
+        except Lighting2DError as exc:
+            raise refused(exc) from None
+
+    def append(items: list, item) -> int:
+        edit()
+        items.append(item)
+        scene().touch()
+        return len(items) - 1
+
     def method_changed(cvar: Cvar) -> None:
         if cvar.value not in METHODS:
             raise CommandError(f"r_shadowMethod must be one of {', '.join(METHODS)}, got {cvar.value!r}")
@@ -197,14 +210,8 @@ def register(editor: "Editor") -> None:
             texture = texture or "builtin:window"
             _check_image(texture)
             extra["radius"] = 5.0
-        try:
-            light = Light(kind=kind, position=(x, y), texture=texture, **extra)
-        except Lighting2DError as exc:
-            raise refused(exc) from None
-        edit()
-        scene().lights.append(light)
-        scene().touch()
-        console.print(f"light {len(scene().lights) - 1}: {kind} at ({x:g}, {y:g})")
+        index = append(scene().lights, make(Light, kind=kind, position=(x, y), texture=texture, **extra))
+        console.print(f"light {index}: {kind} at ({x:g}, {y:g})")
 
     @reg.command("light.set", "index:int property values...", "Set a light's property (light.list shows them)",
                  completer=lambda p: [k for k in sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS
@@ -257,15 +264,9 @@ def register(editor: "Editor") -> None:
 
     @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
     def hull_add(values: list[float]) -> None:
-        try:
-            hull = Hull(coords(values))
-        except Lighting2DError as exc:
-            raise refused(exc) from None
-        edit()
-        scene().hulls.append(hull)
-        scene().touch()
-        console.print(f"hull {len(scene().hulls) - 1}: {len(hull.points)} points")
-        report(len(scene().hulls) - 1)
+        index = append(scene().hulls, make(Hull, points=coords(values)))
+        console.print(f"hull {index}: {len(scene().hulls[index].points)} points")
+        report(index)
 
     @reg.command("hull.set", "index:int property values...", "Set a hull's position, origin, rotation, scale or enabled",
                  completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)])

@@ -34,3 +34,10 @@ class Camera2D:
 
     def world_per_pixel(self, height: int) -> float:
         return self.height / max(height, 1)
+
+    def zoomed_about(self, x: float, y: float, wheel_steps: float, step: float = 1.15,
+                     lo: float = 1e-3, hi: float = 1e4) -> tuple[float, float, float]:
+        """(cx, cy, height) after zooming by `step` per wheel notch, keeping world point (x, y) in place."""
+        h = min(hi, max(lo, self.height * step ** -wheel_steps))
+        k = h / self.height
+        return x + (self.cx - x) * k, y + (self.cy - y) * k, h

@@ -223,12 +223,9 @@ class Lighting2DTool:
         return True
 
     def wheel(self, event) -> None:
-        cam = self.editor.lighting_camera
-        factor = ZOOM_STEP ** (-event.angleDelta().y() / 120)
-        x, y = self._world(event)
-        h = min(1e7, max(1e-2, cam.height * factor))
-        k = h / cam.height
-        self.run(f"lighting.view {x + (cam.cx - x) * k:.5f} {y + (cam.cy - y) * k:.5f} {h:.5f}")
+        cx, cy, h = self.editor.lighting_camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,
+                                                            ZOOM_STEP, lo=1e-2, hi=1e7)
+        self.run(f"lighting.view {cx:.5f} {cy:.5f} {h:.5f}")
 
     def key(self, event) -> bool:
         """Keys the tool owns (True when handled): h draw, Enter/Escape end drawing, Delete removes."""

@@ -68,9 +68,6 @@ class SnowflakeTool:
 
     def wheel(self, event) -> None:
         """Zoom keeping the world point under the cursor in place."""
-        cam = self.editor.snowflake_camera
-        factor = ZOOM_STEP ** (-event.angleDelta().y() / 120)
-        x, y = self._world(event)
-        h = min(1e4, max(1e-3, cam.height * factor))
-        k = h / cam.height
-        self.run(f"snow.view {x + (cam.cx - x) * k:.5f} {y + (cam.cy - y) * k:.5f} {h:.5f}")
+        cx, cy, h = self.editor.snowflake_camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,
+                                                             ZOOM_STEP)
+        self.run(f"snow.view {cx:.5f} {cy:.5f} {h:.5f}")
