@@ -34,7 +34,6 @@ class LightGeometry:
     def build(cls, scene: Scene2D, index: SceneIndex, light: Light) -> "LightGeometry":
         centre = np.asarray(light.position, dtype=np.float64)
         edges, triangles, texels = [], [], []
-        touching = False
         hulls = index.casters(light)
         if len(hulls) >= 4096:
             raise ValueError("a light can take at most 4,095 hulls in reach")  # the packing below
@@ -53,15 +52,6 @@ class LightGeometry:
                 head = np.array([[mid[0], mid[1], np.linalg.norm(rel - mid, axis=1).max(), n + 4096 * local]])
                 verts = rel if n % 2 == 0 else np.concatenate([rel, rel[:1]])
                 texels.append(np.concatenate([head, verts.reshape(-1, 4)]))
-                touching = touching or (light.radius > 0 and _distance_to_origin(rel) <= light.radius)
         cat = lambda parts, width: np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
-        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), touching, len(hulls))
+        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), index.disc_touched(light), len(hulls))
 
-
-def _distance_to_origin(piece: np.ndarray) -> float:
-    a, e = piece, np.roll(piece, -1, axis=0) - piece
-    t = np.clip(-np.einsum("kd,kd->k", a, e) / np.maximum(np.einsum("kd,kd->k", e, e), 1e-300), 0.0, 1.0)
-    cross = e[:, 0] * (-a[:, 1]) - e[:, 1] * (-a[:, 0])
-    if np.all(cross >= 0):
-        return 0.0  # the centre is inside
-    return float(np.linalg.norm(a + t[:, None] * e, axis=1).min())

@@ -67,6 +67,23 @@ def validity(points: np.ndarray) -> str | None:
     return None
 
 
+def inside_convex(points: np.ndarray, piece: np.ndarray, tol: float = 0.0) -> np.ndarray:
+    """Which points (n, 2) lie inside a convex counter-clockwise piece, or within tol (relative to
+    its edges' lengths) outside it."""
+    e = np.roll(piece, -1, axis=0) - piece
+    cross = e[None, :, 0] * (points[:, None, 1] - piece[None, :, 1]) - e[None, :, 1] * (points[:, None, 0] - piece[None, :, 0])
+    return np.all(cross >= -tol * np.hypot(e[:, 0], e[:, 1])[None, :], axis=1)
+
+
+def distance_to_convex(points: np.ndarray, piece: np.ndarray) -> np.ndarray:
+    """Distance from each point (n, 2) to a convex counter-clockwise piece (0 inside it)."""
+    e = np.roll(piece, -1, axis=0) - piece
+    t = np.einsum("pkd,kd->pk", points[:, None, :] - piece[None], e) / np.maximum(np.einsum("kd,kd->k", e, e), 1e-300)
+    nearest = piece[None] + np.clip(t, 0.0, 1.0)[..., None] * e[None]
+    dist = np.linalg.norm(points[:, None, :] - nearest, axis=2).min(axis=1)
+    return np.where(inside_convex(points, piece), 0.0, dist)
+
+
 def is_convex(points: np.ndarray) -> bool:
     """Counter-clockwise points turning left (or straight) at every corner."""
     d = np.roll(points, -1, axis=0) - points

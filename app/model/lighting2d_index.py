@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d import Light, Scene2D, distance_to_convex, inside_convex
 from app.model.spatial2d import GridIndex
 
 CORNERS = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
@@ -24,12 +24,6 @@ def light_bounds(light: Light) -> tuple[float, float, float, float]:
     quad = light_quad(light)
     (x0, y0), (x1, y1) = quad.min(axis=0), quad.max(axis=0)
     return float(x0), float(y0), float(x1), float(y1)
-
-
-def _inside_convex(point: np.ndarray, piece: np.ndarray, tol: float) -> bool:
-    e = np.roll(piece, -1, axis=0) - piece
-    cross = e[:, 0] * (point[1] - piece[:, 1]) - e[:, 1] * (point[0] - piece[:, 0])
-    return bool(np.all(cross >= -tol * np.hypot(e[:, 0], e[:, 1])))
 
 
 class SceneIndex:
@@ -57,8 +51,17 @@ class SceneIndex:
     def centre_blocked(self, light: Light) -> bool:
         """The light's centre inside (or on the edge of, within 1e-9 relative) a hull it does not ignore."""
         x, y = light.position
-        point = np.array([x, y])
-        for i in self.hulls_in(x, y, x, y, ignored=set(light.ignored_hulls)):
-            if any(_inside_convex(point, piece, 1e-9) for piece in self.scene.hulls[i].world_pieces()):
-                return True
-        return False
+        point = np.array([[x, y]])
+        return any(inside_convex(point, piece, 1e-9)[0]
+                   for i in self.hulls_in(x, y, x, y, ignored=set(light.ignored_hulls))
+                   for piece in self.scene.hulls[i].world_pieces())
+
+    def disc_touched(self, light: Light) -> bool:
+        """Does a hull piece meet the light's emitting disc? (then shadows are no longer angular intervals)"""
+        if light.radius <= 0:
+            return False
+        x, y, r = *light.position, light.radius
+        centre = np.array([[x, y]])
+        return any(distance_to_convex(centre, piece)[0] <= r
+                   for i in self.hulls_in(x - r, y - r, x + r, y + r, ignored=set(light.ignored_hulls))
+                   for piece in self.scene.hulls[i].world_pieces())

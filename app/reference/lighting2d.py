@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d import Light, Scene2D, inside_convex
 from app.model.lighting2d_index import SceneIndex
 from app.reference.lighting2d_light import light_value, normal_factor, pixel_world, textures_for
 
@@ -62,52 +62,36 @@ def light_contribution(scene, light, world, textures, samples=64, index=None):
 
 def visibility(scene: Scene2D, light: Light, points: np.ndarray, samples: int = 64, index=None) -> np.ndarray:
     """Visible fraction of the light's disc from each point (n,), with the hull semantics applied."""
+    index = index or SceneIndex(scene)
     pieces = blockers(scene, light, index)
+    touching = index.disc_touched(light)
     out = np.empty(len(points))
     for start in range(0, len(points), CHUNK):
-        out[start:start + CHUNK] = _visibility_block(light, pieces, points[start:start + CHUNK], samples)
+        out[start:start + CHUNK] = _visibility_block(light, pieces, points[start:start + CHUNK], samples, touching)
     return out
 
 
-def _visibility_block(light, pieces, points, samples):
+def _visibility_block(light, pieces, points, samples, touching):
     centre = np.asarray(light.position, dtype=np.float64)
     rel = points - centre  # light at the origin: keeps precision for coordinates near 1e6
     rel_pieces = [(h, p - centre) for h, p in pieces]
     owner = np.full(len(rel), -1)
     for h, piece in rel_pieces:
-        owner[_inside(rel, piece)] = h
+        owner[inside_convex(rel, piece)] = h
     inside = owner >= 0
     vis = np.ones(len(rel))
     if light.shadow_type == "solid":
         vis[inside] = 0.0
     todo = ~inside if light.shadow_type != "occluded" else np.ones(len(rel), bool)
     r = light.radius
-    touching = r > 0 and any(_distance_to_polygon(np.zeros((1, 2)), p)[0] <= r for _, p in rel_pieces)
     for hull_id in np.unique(owner[todo]):
         group = todo & (owner == hull_id)  # occluded hulls ignore themselves: group by containing hull
         active = [p for h, p in rel_pieces if h != hull_id or hull_id < 0]
-        if touching:
+        if touching:  # a piece meets the disc: sample it
             vis[group] = _sampled(rel[group], active, r, samples)
         else:
             vis[group] = _exact(rel[group], active, r)
     return vis
-
-
-def _inside(points, piece):
-    """Points inside a convex counter-clockwise polygon."""
-    a, b = piece, np.roll(piece, -1, axis=0)
-    e = b - a
-    cross = e[None, :, 0] * (points[:, None, 1] - a[None, :, 1]) - e[None, :, 1] * (points[:, None, 0] - a[None, :, 0])
-    return np.all(cross >= 0.0, axis=1)
-
-
-def _distance_to_polygon(points, piece):
-    a, b = piece, np.roll(piece, -1, axis=0)
-    e = b - a
-    t = np.clip(np.einsum("pkd,kd->pk", points[:, None, :] - a[None], e) / np.einsum("kd,kd->k", e, e), 0.0, 1.0)
-    nearest = a[None] + t[..., None] * e[None]
-    dist = np.linalg.norm(points[:, None, :] - nearest, axis=2).min(axis=1)
-    return np.where(_inside(points, piece), 0.0, dist)
 
 
 def hidden_area(lo, hi):
@@ -131,7 +115,7 @@ def _exact(points, pieces, r):
         return np.where(blocked, 0.0, 1.0)
     enclosed = np.zeros(n, bool)
     for piece in pieces:
-        enclosed |= _inside(points, piece)
+        enclosed |= inside_convex(points, piece)
     outside = (dist > r) & ~enclosed  # inside the disc all of it is seen: no piece touches the disc
     p, d = points[outside], dist[outside]
     to_centre = -p / d[:, None]
