@@ -57,7 +57,9 @@ class Lighting2DRenderer:
         self._edges = ctx.buffer(reserve=64, dynamic=True)
         self._tris = ctx.buffer(reserve=64, dynamic=True)
         self._pieces: moderngl.Texture | None = None
-        self._edge_count = 0
+        self._batch_key = None
+        self._index_builds = 0  # tells one index from the next in the batch's key
+        self._spans: dict[int, _Span] = {}
         self._quad_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._quad, "2f", "in_uv")]))
         self._edge_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._edges, "2f 2f 2f", "in_a", "in_b", "in_s")]))
         self._tri_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._tris, "2f", "in_rel")]))
@@ -97,6 +99,7 @@ class Lighting2DRenderer:
             raise ValueError(f"unknown shadow method {settings.method!r}; there are {', '.join(METHODS)}")
         if self._index is None or self._index.version != scene.version or self._index.scene is not scene:
             self._index = SceneIndex(scene)
+            self._index_builds += 1
             self._geometry.clear()
         w, h = (max(1, round(v * settings.lightmap_scale)) for v in size)
         lightmap, fbo = self._target("lightmap", (w, h), 4, "f2", depth=True)
@@ -105,7 +108,8 @@ class Lighting2DRenderer:
         fbo.clear(*scene.ambient, 1.0)
         self.stats = FrameStats()
         scale, offset = self._clip_transform(camera, w, h, settings.flip_y)
-        view = self._view_rect(camera, w, h)
+        view = camera.view_rect(w, h)
+        drawn = []
         for i, light in enumerate(scene.lights):
             if not light.enabled:
                 continue
@@ -116,19 +120,47 @@ class Lighting2DRenderer:
             if self._index.centre_blocked(light):
                 self.stats.skipped_inside.append(i)
                 continue
-            self._draw_light(fbo, scene, i, light, scale, offset, settings)
+            drawn.append(i)
+        self._upload_batch(scene, drawn)
+        for i in drawn:
+            self._draw_light(fbo, scene.lights[i], self._spans[i], scale, offset, settings, scene)
             self.stats.lights_drawn += 1
         fbo.scissor = None
         _bind(fbo, ALL)
         self.ctx.disable(moderngl.BLEND)
         return lightmap
 
+    def _upload_batch(self, scene: Scene2D, drawn: list[int]) -> None:
+        """The geometry of every light drawn, in one buffer (and one texture) each, uploaded only when
+        the scene or the set of lights in view changed; each light draws its own span."""
+        key = (self._index_builds, tuple(drawn))
+        if key == self._batch_key:
+            return
+        for i in drawn:
+            if i not in self._geometry:
+                self._geometry[i] = LightGeometry.build(scene, self._index, scene.lights[i])
+        parts = [self._geometry[i] for i in drawn]
+        starts = [np.cumsum([0] + [len(getattr(g, name)) for g in parts]) for name in ("edges", "triangles", "pieces")]
+        self._spans = {i: _Span(g, int(starts[0][k]), int(starts[1][k]), int(starts[2][k]))
+                       for k, (i, g) in enumerate(zip(drawn, parts))}
+        self._upload(self._edges, np.concatenate([g.edges for g in parts]) if parts else np.zeros((0, 6)))
+        self._upload(self._tris, np.concatenate([g.triangles for g in parts]) if parts else np.zeros((0, 2)))
+        texels = np.concatenate([g.pieces for g in parts]) if parts else np.zeros((0, 4))
+        rows = max(1, -(-len(texels) // 1024))
+        if self._pieces is None or self._pieces.height < rows:
+            if self._pieces is not None:
+                self._pieces.release()
+            self._pieces = self.ctx.texture((1024, max(rows, 4)), 4, dtype="f4")
+            self._pieces.filter = moderngl.NEAREST, moderngl.NEAREST
+        padded = np.zeros((rows * 1024, 4), "f4")
+        padded[:len(texels)] = texels
+        self._pieces.write(padded.tobytes(), viewport=(0, 0, 1024, rows))
+        self._batch_key = key
+
     # ---- one light ----------------------------------------------------------------------------------
 
-    def _draw_light(self, fbo, scene, index, light: Light, scale, offset, settings: Shading2D) -> None:
-        geometry = self._geometry.get(index)
-        if geometry is None:
-            geometry = self._geometry[index] = LightGeometry.build(scene, self._index, light)
+    def _draw_light(self, fbo, light: Light, span: "_Span", scale, offset, settings: Shading2D, scene) -> None:
+        geometry = span.geometry
         self.stats.hulls_considered += geometry.hull_count
         light_clip = tuple(np.asarray(light.position) * scale + offset)
         common = {"u_scale": tuple(scale), "u_light_clip": light_clip}
@@ -143,22 +175,20 @@ class Lighting2DRenderer:
             method = "hard"  # the seed's wedges need a disc; a point casts hard shadows (no NaN)
         if shadows:
             if method == "exact":
-                self._exact_mask(fbo, light, geometry, common, settings)
+                self._exact_mask(fbo, light, span, common, settings)
             else:
-                self._upload(self._edges, geometry.edges)
                 if method in ("hard", "penumbra"):
-                    self._edge_mask(fbo, light, common, soft=method == "penumbra")
+                    self._edge_mask(fbo, light, span, common, soft=method == "penumbra")
                 elif method == "jitter":
-                    self._jitter_mask(fbo, light, common, settings.samples, box)
+                    self._jitter_mask(fbo, light, span, common, settings.samples, box)
                 else:
-                    self._blur_mask(fbo, light, common, settings.blur, box, scale)
-                self._hull_pass(fbo, light, geometry, common)
+                    self._blur_mask(fbo, light, span, common, settings.blur, box, scale)
+                self._hull_pass(fbo, light, span, common)
         self._light_pass(fbo, scene, light, common, settings)
 
-    def _edge_mask(self, fbo, light, common, soft: bool, emit=(0.0, 0.0), color_mask=ALPHA) -> None:
+    def _edge_mask(self, fbo, light, span, common, soft: bool, emit=(0.0, 0.0), color_mask=ALPHA) -> None:
         program = self._program("light2d_edges", common, u_soft=soft, u_cover=False, u_umbra=False,
-                                u_radius=float(light.radius),
-                                u_emit=emit)
+                                u_radius=float(light.radius), u_emit=emit)
         _bind(fbo, color_mask)
         if soft:  # Penumbra: subtract each edge's occlusion, then clamp at 0 (overlaps would go negative)
             self.ctx.enable(moderngl.BLEND)
@@ -166,11 +196,11 @@ class Lighting2DRenderer:
             self.ctx.blend_func = moderngl.ONE, moderngl.ONE
         else:
             self.ctx.disable(moderngl.BLEND)
-        self._edge_vaos.get(program).render(moderngl.TRIANGLES, vertices=self._edge_count)
+        span.draw_edges(self._edge_vaos.get(program))
         if soft:
             self._fill(fbo, 0.0, ALPHA, equation=moderngl.MAX)
 
-    def _jitter_mask(self, fbo, light, common, samples: int, box) -> None:
+    def _jitter_mask(self, fbo, light, span, common, samples: int, box) -> None:
         """N hard shadows from points spread over the disc, four per pass in a mask's channels."""
         points = disc_samples(light.radius, samples)
         mask, mask_fbo = self._target("jitter", fbo.size, 4, "f1")
@@ -179,12 +209,12 @@ class Lighting2DRenderer:
             group = points[start:start + 4]
             self._fill(mask_fbo, 1.0, ALL)
             for k, emit in enumerate(group):
-                self._edge_mask(mask_fbo, light, common, soft=False, emit=tuple(map(float, emit)),
+                self._edge_mask(mask_fbo, light, span, common, soft=False, emit=tuple(map(float, emit)),
                                 color_mask=tuple(c == k for c in range(4)))
             weights = tuple(1.0 / len(points) if k < len(group) else 0.0 for k in range(4))
             self._mask_into_alpha(fbo, mask, weights, blend=True)
 
-    def _blur_mask(self, fbo, light, common, blur: float, box, scale) -> None:
+    def _blur_mask(self, fbo, light, span, common, blur: float, box, scale) -> None:
         sigma = max(blur * light.radius * abs(float(scale[1])) * fbo.size[1] / 2.0, 1e-3)
         reach = int(math.ceil(3 * sigma)) + 1
         x, y, w, h = box
@@ -193,7 +223,7 @@ class Lighting2DRenderer:
         other, other_fbo = self._target("blur_b", fbo.size, 1, "f2")
         mask_fbo.scissor = other_fbo.scissor = grown
         self._fill(mask_fbo, 1.0, ALL)
-        self._edge_mask(mask_fbo, light, common, soft=False, color_mask=ALL)
+        self._edge_mask(mask_fbo, light, span, common, soft=False, color_mask=ALL)
         program = self._program("light2d_blur", {}, u_sigma=float(sigma), u_mask=0)
         for source, target, step in ((mask, other_fbo, (1.0, 0.0)), (other, mask_fbo, (0.0, 1.0))):
             _bind(target, ALL)
@@ -202,13 +232,12 @@ class Lighting2DRenderer:
             self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
         self._mask_into_alpha(fbo, mask, (1.0, 0.0, 0.0, 0.0), blend=False)
 
-    def _exact_mask(self, fbo, light, geometry, common, settings: Shading2D) -> None:
+    def _exact_mask(self, fbo, light, span, common, settings: Shading2D) -> None:
         """Mark in the depth buffer where any edge's shadow from any point of the disc can fall (the
         cover), then run the per-pixel coverage only there; elsewhere the mask keeps its 1."""
-        if geometry.touching:  # a hull overlaps the disc: shadows can fall anywhere, so no cover
-            self._exact_pass(fbo, light, geometry, common, settings)
+        if span.geometry.touching:  # a hull overlaps the disc: shadows can fall anywhere, so no cover
+            self._exact_pass(fbo, light, span, common, settings)
             return
-        self._upload(self._edges, geometry.edges)
         fbo.depth_mask = True
         _bind(fbo, (False, False, False, False))
         fbo.clear(depth=1.0, viewport=fbo.scissor)
@@ -217,49 +246,40 @@ class Lighting2DRenderer:
         self.ctx.disable(moderngl.BLEND)
         cover = self._program("light2d_edges", common, u_soft=False, u_cover=True, u_umbra=False,
                               u_radius=float(light.radius))
-        self._edge_vaos.get(cover).render(moderngl.TRIANGLES, vertices=self._edge_count)
-        if light.shadow_type == "solid" and not geometry.touching:
+        span.draw_edges(self._edge_vaos.get(cover))
+        if light.shadow_type == "solid":
             # where one edge alone hides the whole disc the mask is 0: write it, nearer, and skip those pixels
             _bind(fbo, ALPHA)
             cover["u_umbra"].value = True
-            self._edge_vaos.get(cover).render(moderngl.TRIANGLES, vertices=self._edge_count)
+            span.draw_edges(self._edge_vaos.get(cover))
         fbo.depth_mask = False
         self.ctx.depth_func = "=="
         try:
-            self._exact_pass(fbo, light, geometry, common, settings)
+            self._exact_pass(fbo, light, span, common, settings)
         finally:
             self.ctx.disable(moderngl.DEPTH_TEST)
             fbo.depth_mask = True
 
-    def _exact_pass(self, fbo, light, geometry, common, settings: Shading2D) -> None:
-        texels = geometry.pieces
-        rows = max(1, -(-len(texels) // 1024))
-        if self._pieces is None or self._pieces.height < rows:
-            if self._pieces is not None:
-                self._pieces.release()
-            self._pieces = self.ctx.texture((1024, max(rows, 4)), 4, dtype="f4")
-            self._pieces.filter = moderngl.NEAREST, moderngl.NEAREST
-        padded = np.zeros((rows * 1024, 4), "f4")
-        padded[:len(texels)] = texels
-        self._pieces.write(padded.tobytes(), viewport=(0, 0, 1024, rows))
+    def _exact_pass(self, fbo, light, span, common, settings: Shading2D) -> None:
         self._pieces.use(0)
         program = self._program(
-            "light2d_exact", common, u_pieces=0, u_begin=0, u_end=len(texels), u_radius=float(light.radius),
-            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=geometry.touching,
+            "light2d_exact", common, u_pieces=0, u_begin=span.piece_first,
+            u_end=span.piece_first + len(span.geometry.pieces), u_radius=float(light.radius),
+            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=span.geometry.touching,
             u_disc_samples=int(settings.disc_samples), **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
         self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)
 
-    def _hull_pass(self, fbo, light, geometry, common) -> None:
-        if light.shadow_type == "occluded" or not len(geometry.triangles):
+    def _hull_pass(self, fbo, light, span, common) -> None:
+        count = len(span.geometry.triangles)
+        if light.shadow_type == "occluded" or not count:
             return  # occluded hulls keep what the other hulls' shadows left
-        self._upload(self._tris, geometry.triangles)
         value = 0.0 if light.shadow_type == "solid" else 1.0
         program = self._program("light2d_hull", common, u_color=(value, value, value, value))
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
-        self._tri_vaos.get(program).render(moderngl.TRIANGLES, vertices=len(geometry.triangles))
+        self._tri_vaos.get(program).render(moderngl.TRIANGLES, vertices=count, first=span.tri_first)
 
     def _light_pass(self, fbo, scene, light: Light, common, settings: Shading2D) -> None:
         normals_on = bool(settings.normal_maps and scene.normal_map and light.height > 0)
@@ -332,8 +352,6 @@ class Lighting2DRenderer:
             buffer.orphan(data.nbytes)
         if data.nbytes:
             buffer.write(data)
-        if buffer is self._edges:
-            self._edge_count = len(data)
 
     def _target(self, name: str, size, components: int, dtype: str, depth: bool = False):
         held = self._targets.get(name)
@@ -363,18 +381,10 @@ class Lighting2DRenderer:
 
     @staticmethod
     def _clip_transform(camera: Camera2D, w: int, h: int, flip_y: bool):
-        sy = 2.0 / camera.height  # in double: offsets near 1e6 * scale must not round to float32
-        scale = np.array([sy * h / max(w, 1), sy])
-        offset = -np.array([camera.cx, camera.cy]) * scale
+        scale, offset = camera.scale_offset(w, h)
         if flip_y:
             scale[1], offset[1] = -scale[1], -offset[1]
         return scale, offset
-
-    @staticmethod
-    def _view_rect(camera: Camera2D, w: int, h: int):
-        half_h = camera.height / 2
-        half_w = half_h * w / max(h, 1)
-        return camera.cx - half_w, camera.cy - half_h, camera.cx + half_w, camera.cy + half_h
 
     def _ndc_to_world(self, camera: Camera2D, w: int, h: int, flip_y: bool, tex_size):
         scale, offset = self._clip_transform(camera, w, h, flip_y)
@@ -394,6 +404,18 @@ class Lighting2DRenderer:
         if right <= left or top <= bottom:
             return None
         return left, bottom, right - left, top - bottom
+
+
+@dataclass
+class _Span:
+    """Where one light's geometry sits in the batch."""
+    geometry: LightGeometry
+    edge_first: int
+    tri_first: int
+    piece_first: int
+
+    def draw_edges(self, vao: moderngl.VertexArray) -> None:
+        vao.render(moderngl.TRIANGLES, vertices=len(self.geometry.edges), first=self.edge_first)
 
 
 def _bind(fbo: moderngl.Framebuffer, color_mask) -> None:

@@ -5,7 +5,6 @@ bytes and the reference samples them the same way, so both see the same texels."
 from __future__ import annotations
 
 import functools
-import math
 import os
 
 import numpy as np
@@ -57,7 +56,7 @@ def _window() -> np.ndarray:
 def _flame() -> np.ndarray:
     u, v = _grid(64)
     r = np.hypot((u - 0.5) * 1.0, (v - 0.55) * 0.8)
-    flicker = 0.85 + 0.15 * np.cos(6 * math.atan2(1, 1) + 9 * u)
+    flicker = 0.85 + 0.15 * np.cos(9 * u)
     return _rgba(np.repeat(np.clip(1.0 - 2.2 * r, 0, 1)[..., None] * flicker[..., None], 3, axis=-1))
 
 

@@ -20,12 +20,17 @@ class Camera2D:
             raise ValueError(f"camera height must be > 0, got {self.height}")
 
     def scale_offset(self, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
-        """clip = world * scale + offset; y up in world and in clip space."""
+        """clip = world * scale + offset; y up in world and in clip space. In double: a centre near 1e6
+        times the scale must not round to float32 before a renderer subtracts what it needs."""
         sy = 2.0 / self.height
         sx = sy * height / max(width, 1)
-        scale = np.array([sx, sy], dtype="f4")
-        offset = np.array([-self.cx * sx, -self.cy * sy], dtype="f4")
-        return scale, offset
+        return np.array([sx, sy]), np.array([-self.cx * sx, -self.cy * sy])
+
+    def view_rect(self, width: int, height: int) -> tuple[float, float, float, float]:
+        """The world rectangle (x0, y0, x1, y1) a width x height view shows."""
+        half_h = self.height / 2
+        half_w = half_h * width / max(height, 1)
+        return self.cx - half_w, self.cy - half_h, self.cx + half_w, self.cy + half_h
 
     def to_world(self, px: float, py: float, width: int, height: int) -> tuple[float, float]:
         """Pixel (origin top-left, y down) to world coordinates."""

@@ -34,18 +34,17 @@ class History2D:
         self._redo.clear()
 
     def undo(self) -> bool:
-        if not self._undo:
-            return False
-        self._redo.append(self._snapshot())
-        self._restore(self._undo.pop())
-        self._last_key = None
-        return True
+        return self._step(self._undo, self._redo)
 
     def redo(self) -> bool:
-        if not self._redo:
+        return self._step(self._redo, self._undo)
+
+    def _step(self, source: list[dict], target: list[dict]) -> bool:
+        """Restore the newest state of `source`, keeping the present in `target`."""
+        if not source:
             return False
-        self._undo.append(self._snapshot())
-        self._restore(self._redo.pop())
+        target.append(self._snapshot())
+        self._restore(source.pop())
         self._last_key = None
         return True
 
