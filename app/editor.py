@@ -42,6 +42,12 @@ class Editor:
         self.volume_view = VolumeView()
         self.lighting = scene2d.load(DEFAULT_2D_SCENE)
         self.lighting_camera = Camera2D(*self.lighting.view)
+        # what the 2D view draws besides the scene (view state, not model: no command changes it)
+        self.lighting_selection: tuple[str, int] | None = None
+        self.lighting_pending: list[tuple[float, float]] = []  # the points of a hull being drawn
+        # per workspace: (load, save) of its scene files and (undo, redo), filled in by its commands
+        self.scene_files: dict[str, tuple[Callable[[str], None], Callable[[str], None]]] = {}
+        self.histories: dict[str, tuple[Callable[[], bool], Callable[[], bool]]] = {}
         self.lua = builtins.register(self.console, self.binds)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.state_commands, frame)
         core.register(self)

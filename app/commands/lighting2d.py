@@ -90,6 +90,7 @@ def register(editor: "Editor") -> None:
     console = editor.console
     reg = console.registry
     history = editor.lighting_history = History2D(editor.lighting)
+    editor.histories["lighting2d"] = (history.undo, history.redo)
 
     def scene() -> Scene2D:
         return editor.lighting
@@ -165,7 +166,12 @@ def register(editor: "Editor") -> None:
         editor.replace_lighting(loaded)
         console.print(f"loaded {len(loaded.lights)} lights and {len(loaded.hulls)} hulls from {Path(path).name}")
 
-    editor.load_lighting = load
+    def save(path) -> None:
+        cam = editor.lighting_camera
+        scene().view = (cam.cx, cam.cy, cam.height)
+        scene_file.save(path, scene())
+
+    editor.scene_files["lighting2d"] = (load, save)
 
     @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)")
     def ambient(r: float, g: float, b: float) -> None:

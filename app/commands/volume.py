@@ -169,25 +169,13 @@ def register(editor: "Editor") -> None:
     def smooth() -> None:
         volume().smooth()
 
-    @reg.command("undo", "", "Undo the last edit of the current workspace (the volume, or the 2D scene)")
-    def undo() -> None:
-        if editor.workspace == "lighting2d":
-            if not editor.lighting_history.undo():
-                raise CommandError("nothing to undo")
-            return
-        if not volume().undo():
-            raise CommandError("nothing to undo")
-        clamp_slice()
+    def history_step(step) -> bool:
+        done = step()
+        if done:
+            clamp_slice()
+        return done
 
-    @reg.command("redo", "", "Redo the last undone edit of the current workspace")
-    def redo() -> None:
-        if editor.workspace == "lighting2d":
-            if not editor.lighting_history.redo():
-                raise CommandError("nothing to redo")
-            return
-        if not volume().redo():
-            raise CommandError("nothing to redo")
-        clamp_slice()
+    editor.histories["volume"] = (lambda: history_step(volume().undo), lambda: history_step(volume().redo))
 
     @reg.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour")
     def pick(x: int, y: int, z: int) -> None:

@@ -66,7 +66,7 @@ class WorkspaceRenderer:
             self._lighting.render(fbo, editor.lighting, editor.lighting_camera, settings)
             debug = editor.console.registry.cvars["r_debug2d"].value
             self._overlay.draw(fbo, editor.lighting, editor.lighting_camera, settings.flip_y, debug,
-                               getattr(editor, "lighting_selection", None), getattr(editor, "lighting_pending", None))
+                               editor.lighting_selection, editor.lighting_pending)
         elif editor.workspace == "volume":
             if self._volume is None:
                 self._volume = RayTracer(self.ctx, self.shaders)

@@ -165,7 +165,7 @@ class Lighting2DPanel(QWidget):
         self.sync()
 
     def _selected(self, kind: str):
-        sel = getattr(self.editor, "lighting_selection", None)
+        sel = self.editor.lighting_selection
         if sel is None or sel[0] != kind:
             return None
         items = self.editor.lighting.lights if kind == "light" else self.editor.lighting.hulls

@@ -43,8 +43,6 @@ class Lighting2DTool:
         self.drawing = False
         self._drag = None      # (kind, data) of the gesture in progress
         self._moved = False
-        viewport.editor.lighting_selection = None
-        viewport.editor.lighting_pending = []
 
     @property
     def editor(self):
