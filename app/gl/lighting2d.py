@@ -56,6 +56,7 @@ class Lighting2DRenderer:
         self._quad = ctx.buffer(np.array([0, 0, 1, 0, 0, 1, 1, 1], "f4"))
         self._edges = ctx.buffer(reserve=64, dynamic=True)
         self._tris = ctx.buffer(reserve=64, dynamic=True)
+        self._regions = ctx.buffer(reserve=64, dynamic=True)
         self._pieces: moderngl.Texture | None = None
         self._batch_key = None
         self._index_builds = 0  # tells one index from the next in the batch's key
@@ -63,6 +64,7 @@ class Lighting2DRenderer:
         self._quad_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._quad, "2f", "in_uv")]))
         self._edge_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._edges, "2f 2f 2f", "in_a", "in_b", "in_s")]))
         self._tri_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._tris, "2f", "in_rel")]))
+        self._region_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._regions, "2i", "in_piece")]))
         self._screen_vaos = VertexArrays(lambda p: ctx.vertex_array(p, []))
         self._targets: dict[str, tuple] = {}
         self._textures: dict[str, moderngl.Texture] = {}
@@ -140,11 +142,15 @@ class Lighting2DRenderer:
             if i not in self._geometry:
                 self._geometry[i] = LightGeometry.build(scene, self._index, scene.lights[i])
         parts = [self._geometry[i] for i in drawn]
-        starts = [np.cumsum([0] + [len(getattr(g, name)) for g in parts]) for name in ("edges", "triangles", "pieces")]
-        self._spans = {i: _Span(g, int(starts[0][k]), int(starts[1][k]), int(starts[2][k]))
-                       for k, (i, g) in enumerate(zip(drawn, parts))}
+        starts = [np.cumsum([0] + [len(getattr(g, name)) for g in parts])
+                  for name in ("edges", "triangles", "pieces", "heads")]
+        self._spans = {i: _Span(g, *(int(column[k]) for column in starts)) for k, (i, g) in enumerate(zip(drawn, parts))}
         self._upload(self._edges, np.concatenate([g.edges for g in parts]) if parts else np.zeros((0, 6)))
         self._upload(self._tris, np.concatenate([g.triangles for g in parts]) if parts else np.zeros((0, 2)))
+        # six corners per piece, each naming the piece's header texel in the batch's texture
+        heads = np.concatenate([g.heads + starts[2][k] for k, g in enumerate(parts)]) if parts else np.zeros(0, "i4")
+        corners = np.stack([np.repeat(heads, 6), np.tile(np.arange(6), len(heads))], axis=1)
+        self._upload(self._regions, corners.astype("i4"), dtype="i4")
         texels = np.concatenate([g.pieces for g in parts]) if parts else np.zeros((0, 4))
         rows = max(1, -(-len(texels) // 1024))
         if self._pieces is None or self._pieces.height < rows:
@@ -187,7 +193,7 @@ class Lighting2DRenderer:
         self._light_pass(fbo, scene, light, common, settings)
 
     def _edge_mask(self, fbo, light, span, common, soft: bool, emit=(0.0, 0.0), color_mask=ALPHA) -> None:
-        program = self._program("light2d_edges", common, u_soft=soft, u_cover=False, u_umbra=False,
+        program = self._program("light2d_edges", common, u_soft=soft,
                                 u_radius=float(light.radius), u_emit=emit)
         _bind(fbo, color_mask)
         if soft:  # Penumbra: subtract each edge's occlusion, then clamp at 0 (overlaps would go negative)
@@ -233,39 +239,44 @@ class Lighting2DRenderer:
         self._mask_into_alpha(fbo, mask, (1.0, 0.0, 0.0, 0.0), blend=False)
 
     def _exact_mask(self, fbo, light, span, common, settings: Shading2D) -> None:
-        """Mark in the depth buffer where any edge's shadow from any point of the disc can fall (the
-        cover), then run the per-pixel coverage only there; elsewhere the mask keeps its 1."""
+        """Mark in the depth buffer where some piece hides some of the disc (the cover: every piece and
+        its shadow), and nearer where one piece hides all of it (its umbra, mask 0, solid lights only);
+        run the per-pixel coverage where only the cover is. Elsewhere a pixel sees all of the disc or
+        none of it, and the mask is already right."""
         if span.geometry.touching:  # a hull overlaps the disc: shadows can fall anywhere, so no cover
-            self._exact_pass(fbo, light, span, common, settings)
+            self._exact_pass(fbo, light, span, common, settings, outside=False)
             return
+        self._pieces.use(0)
+        region = self._program("light2d_region", common, u_pieces=0, u_radius=float(light.radius),
+                               u_color=(0.0, 0.0, 0.0, 0.0))
+        solid = light.shadow_type == "solid"
         fbo.depth_mask = True
         _bind(fbo, (False, False, False, False))
         fbo.clear(depth=1.0, viewport=fbo.scissor)
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<="
-        self.ctx.disable(moderngl.BLEND)
-        cover = self._program("light2d_edges", common, u_soft=False, u_cover=True, u_umbra=False,
-                              u_radius=float(light.radius))
-        span.draw_edges(self._edge_vaos.get(cover))
-        if light.shadow_type == "solid":
-            # where one edge alone hides the whole disc the mask is 0: write it, nearer, and skip those pixels
-            _bind(fbo, ALPHA)
-            cover["u_umbra"].value = True
-            span.draw_edges(self._edge_vaos.get(cover))
+        hull = self._program("light2d_hull", common, u_color=(0.0, 0.0, 0.0, 0.0))
+        for umbra, depth in [(False, 0.0)] + [(True, -0.5)] * solid:
+            if umbra:
+                _bind(fbo, ALPHA)
+            region["u_umbra"].value = umbra
+            hull["u_depth"].value = depth
+            span.draw_regions(self._region_vaos.get(region))
+            span.draw_triangles(self._tri_vaos.get(hull))
         fbo.depth_mask = False
         self.ctx.depth_func = "=="
         try:
-            self._exact_pass(fbo, light, span, common, settings)
+            self._exact_pass(fbo, light, span, common, settings, outside=solid)
         finally:
             self.ctx.disable(moderngl.DEPTH_TEST)
             fbo.depth_mask = True
 
-    def _exact_pass(self, fbo, light, span, common, settings: Shading2D) -> None:
+    def _exact_pass(self, fbo, light, span, common, settings: Shading2D, outside: bool) -> None:
         self._pieces.use(0)
         program = self._program(
             "light2d_exact", common, u_pieces=0, u_begin=span.piece_first,
             u_end=span.piece_first + len(span.geometry.pieces), u_radius=float(light.radius),
-            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=span.geometry.touching,
+            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=span.geometry.touching, u_outside=outside,
             u_disc_samples=int(settings.disc_samples), **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
@@ -276,10 +287,10 @@ class Lighting2DRenderer:
         if light.shadow_type == "occluded" or not count:
             return  # occluded hulls keep what the other hulls' shadows left
         value = 0.0 if light.shadow_type == "solid" else 1.0
-        program = self._program("light2d_hull", common, u_color=(value, value, value, value))
+        program = self._program("light2d_hull", common, u_color=(value, value, value, value), u_depth=0.0)
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
-        self._tri_vaos.get(program).render(moderngl.TRIANGLES, vertices=count, first=span.tri_first)
+        span.draw_triangles(self._tri_vaos.get(program))
 
     def _light_pass(self, fbo, scene, light: Light, common, settings: Shading2D) -> None:
         normals_on = bool(settings.normal_maps and scene.normal_map and light.height > 0)
@@ -346,8 +357,8 @@ class Lighting2DRenderer:
         self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
         self.ctx.disable(moderngl.BLEND)
 
-    def _upload(self, buffer: moderngl.Buffer, data: np.ndarray) -> None:
-        data = np.ascontiguousarray(data, "f4")
+    def _upload(self, buffer: moderngl.Buffer, data: np.ndarray, dtype: str = "f4") -> None:
+        data = np.ascontiguousarray(data, dtype)
         if data.nbytes > buffer.size:
             buffer.orphan(data.nbytes)
         if data.nbytes:
@@ -413,9 +424,16 @@ class _Span:
     edge_first: int
     tri_first: int
     piece_first: int
+    head_first: int
 
     def draw_edges(self, vao: moderngl.VertexArray) -> None:
         vao.render(moderngl.TRIANGLES, vertices=len(self.geometry.edges), first=self.edge_first)
+
+    def draw_triangles(self, vao: moderngl.VertexArray) -> None:
+        vao.render(moderngl.TRIANGLES, vertices=len(self.geometry.triangles), first=self.tri_first)
+
+    def draw_regions(self, vao: moderngl.VertexArray) -> None:
+        vao.render(moderngl.TRIANGLES, vertices=6 * len(self.geometry.heads), first=6 * self.head_first)
 
 
 def _bind(fbo: moderngl.Framebuffer, color_mask) -> None:

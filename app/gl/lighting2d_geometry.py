@@ -27,13 +27,15 @@ class LightGeometry:
     edges: np.ndarray       # (6 * edges, 6): in_a, in_b, in_s per vertex
     triangles: np.ndarray   # (3 * triangles, 2)
     pieces: np.ndarray      # (texels, 4) for light2d_exact_FS.glsl
+    heads: np.ndarray       # (pieces,) int32: each piece's header texel in `pieces`
     touching: bool          # a piece meets the emitting disc
     hull_count: int
 
     @classmethod
     def build(cls, scene: Scene2D, index: SceneIndex, light: Light) -> "LightGeometry":
         centre = np.asarray(light.position, dtype=np.float64)
-        edges, triangles, texels = [], [], []
+        edges, triangles, texels, heads = [], [], [], []
+        texel_count = 0
         hulls = index.casters(light)
         if len(hulls) >= 4096:
             raise ValueError("a light can take at most 4,095 hulls in reach")  # the packing below
@@ -51,7 +53,10 @@ class LightGeometry:
                 # one header texel: centre, bounding radius, and n with the hull's ordinal in this light
                 head = np.array([[mid[0], mid[1], np.linalg.norm(rel - mid, axis=1).max(), n + 4096 * local]])
                 verts = rel if n % 2 == 0 else np.concatenate([rel, rel[:1]])
+                heads.append(texel_count)
                 texels.append(np.concatenate([head, verts.reshape(-1, 4)]))
+                texel_count += len(texels[-1])
         cat = lambda parts, width: np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
-        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), index.disc_touched(light), len(hulls))
+        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), np.array(heads, "i4"),
+                   index.disc_touched(light), len(hulls))
 

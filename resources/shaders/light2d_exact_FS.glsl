@@ -13,16 +13,18 @@ uniform int u_end;
 uniform float u_radius;
 uniform int u_shadow_type;     // 0 solid, 1 illuminated, 2 occluded
 uniform bool u_touching;
+uniform bool u_outside;        // the pass runs outside every hull (a solid light's cover leaves them out)
 uniform int u_disc_samples;
 out vec4 frag_color;
 
-const int MAX_INTERVALS = 16;
 const float PI = 3.14159265358979;
 const float BIG = 1e30;
+const int MAX_INTERVALS = 16;
 
 vec4 fetch(int i) { return texelFetch(u_pieces, ivec2(i & 1023, i >> 10), 0); }
 int count_of(vec4 head) { return int(mod(head.w, 4096.0)); }
 int hull_of(vec4 head) { return int(head.w / 4096.0); }
+int texels_of(int n) { return (n + 1) >> 1; }  // two vertices a texel; an odd count repeats the first
 vec2 vertex_at(int base, int k) { vec4 t = fetch(base + (k >> 1)); return (k & 1) == 0 ? t.xy : t.zw; }
 
 float g(float x) {
@@ -30,29 +32,45 @@ float g(float x) {
     return (x * sqrt(max(1.0 - x * x, 0.0)) + asin(x)) / PI;
 }
 
+vec4 g(vec4 x) {
+    x = clamp(x, -1.0, 1.0);
+    return (x * sqrt(max(1.0 - x * x, 0.0)) + asin(x)) / PI;
+}
+
+// The loops below walk the outline a texel (two vertices) at a time; the repeated first vertex of an
+// odd count makes an edge of length 0, which changes none of their answers.
 bool inside(vec2 p, int base, int n) {
-    vec2 v0 = vertex_at(base, n - 1);
-    for (int k = 0; k < n; ++k) {
-        vec2 v1 = vertex_at(base, k);
-        vec2 e = v1 - v0;
-        if (e.x * (p.y - v0.y) - e.y * (p.x - v0.x) < 0.0) return false;
-        v0 = v1;
+    int texels = texels_of(n);
+    vec2 v0 = fetch(base + texels - 1).zw;
+    for (int k = 0; k < texels; ++k) {
+        vec4 t = fetch(base + k);
+        vec2 e1 = t.xy - v0, e2 = t.zw - t.xy;
+        if (e1.x * (p.y - v0.y) - e1.y * (p.x - v0.x) < 0.0) return false;
+        if (e2.x * (p.y - t.y) - e2.y * (p.x - t.x) < 0.0) return false;
+        v0 = t.zw;
     }
     return true;
+}
+
+// One edge's bound on where the ray p + t d lies inside the piece (t0: entering, t1: leaving).
+void clip_edge(vec2 p, vec2 d, vec2 v0, vec2 v1, inout float t0, inout float t1) {
+    vec2 normal = vec2(v1.y - v0.y, v0.x - v1.x);
+    float den = dot(d, normal), num = dot(v0 - p, normal);
+    if (den < 0.0) t0 = max(t0, num / den);
+    else if (den > 0.0) t1 = min(t1, num / den);
+    else if (num < 0.0) t0 = BIG;
 }
 
 // Distance along p + t d at which the ray enters the convex piece (0 when it starts inside), or BIG.
 float enter_at(vec2 p, vec2 d, int base, int n) {
     float t0 = 0.0, t1 = BIG;
-    vec2 v0 = vertex_at(base, n - 1);
-    for (int k = 0; k < n; ++k) {
-        vec2 v1 = vertex_at(base, k);
-        vec2 normal = vec2(v1.y - v0.y, v0.x - v1.x);
-        float den = dot(d, normal), num = dot(v0 - p, normal);
-        if (den < 0.0) t0 = max(t0, num / den);
-        else if (den > 0.0) t1 = min(t1, num / den);
-        else if (num < 0.0) return BIG;
-        v0 = v1;
+    int texels = texels_of(n);
+    vec2 v0 = fetch(base + texels - 1).zw;
+    for (int k = 0; k < texels; ++k) {
+        vec4 t = fetch(base + k);
+        clip_edge(p, d, v0, t.xy, t0, t1);
+        clip_edge(p, d, t.xy, t.zw, t0, t1);
+        v0 = t.zw;
     }
     return t0 <= t1 ? t0 : BIG;
 }
@@ -74,17 +92,32 @@ bool may_block(vec2 p, vec4 bound, float r) {
     return distance(bound.xy, p * (1.0 - t)) <= bound.z + r;
 }
 
+// From texel `i` on, the next piece worth a full test (moving `i` past it): its bounding circle contains
+// p (`containing`), or comes within `reach` of the segment from p to the light's centre and it is not
+// of hull `own`. A cheap scan, then the full test on the one found, rather than one loop doing both:
+// CPU drivers run a loop's whole body on every iteration, for every pixel, wanted or not.
+bool next_piece(inout int i, vec2 p, float reach, int own, bool containing, out vec4 head, out int base, out int n) {
+    while (i < u_end) {
+        head = fetch(i);
+        n = count_of(head);
+        base = i + 1;
+        i = base + texels_of(n);
+        if (containing ? distance(p, head.xy) <= head.z : hull_of(head) != own && may_block(p, head, reach))
+            return true;
+    }
+    return false;
+}
+
 // The hull containing p (-1 if none); solid and illuminated hulls settle the pixel at once.
 int containing_hull(vec2 p, out bool settled, out float value) {
     settled = false;
-    for (int i = u_begin; i < u_end;) {
-        vec4 head = fetch(i);
-        int n = count_of(head);
-        if (distance(p, head.xy) <= head.z && inside(p, i + 1, n)) {
+    int i = u_begin, base, n;
+    vec4 head;
+    while (next_piece(i, p, 0.0, -1, true, head, base, n)) {
+        if (inside(p, base, n)) {
             if (u_shadow_type != 2) { settled = true; value = u_shadow_type == 0 ? 0.0 : 1.0; }
             return hull_of(head);
         }
-        i += 1 + (n + 1) / 2;
     }
     return -1;
 }
@@ -95,13 +128,11 @@ float sampled(vec2 p, int own) {
     for (int s = 0; s < u_disc_samples; ++s) {
         float rr = u_radius * sqrt((float(s) + 0.5) / float(u_disc_samples));
         float a = float(s) * 2.39996323;
-        vec2 q = rr * vec2(cos(a), sin(a));
-        vec2 d = q - p;
-        for (int i = u_begin; i < u_end;) {
-            vec4 head = fetch(i);
-            int n = count_of(head);
-            if (hull_of(head) != own && enter_at(p, d, i + 1, n) < 1.0) { ++hidden; break; }
-            i += 1 + (n + 1) / 2;
+        vec2 d = rr * vec2(cos(a), sin(a)) - p;
+        int i = u_begin, base, n;
+        vec4 head;
+        while (next_piece(i, p, u_radius, own, false, head, base, n)) {
+            if (enter_at(p, d, base, n) < 1.0) { ++hidden; break; }
         }
     }
     return 1.0 - float(hidden) / float(u_disc_samples);
@@ -120,13 +151,11 @@ float visibility(vec2 p) {
     float dist = length(p);
     if (u_touching) return sampled(p, own);
     float r = u_radius;
+    int i = u_begin, base, n;
+    vec4 head;
     if (r <= 1e-6 * dist) {  // a point light: one ray towards the centre
-        for (int i = u_begin; i < u_end;) {
-            vec4 head = fetch(i);
-            int n = count_of(head);
-            if (hull_of(head) != own && may_block(p, head, 0.0) && enter_at(p, -p / dist, i + 1, n) < dist)
-                return 0.0;
-            i += 1 + (n + 1) / 2;
+        while (next_piece(i, p, 0.0, own, false, head, base, n)) {
+            if (enter_at(p, -p / dist, base, n) < dist) return 0.0;
         }
         return 1.0;
     }
@@ -134,25 +163,23 @@ float visibility(vec2 p) {
     vec2 axis = -p / dist;
     float lo[MAX_INTERVALS], hi[MAX_INTERVALS];
     int count = 0;
-    for (int i = u_begin; i < u_end;) {
-        vec4 head = fetch(i);
-        int n = count_of(head), base = i + 1;
-        i += 1 + (n + 1) / 2;
-        if (hull_of(head) == own) continue;
-        if (!may_block(p, head, r)) continue;
+    while (next_piece(i, p, r, own, false, head, base, n)) {
         vec2 w = head.xy - p;
         float wl = length(w);
-        if (wl <= head.z && inside(p, base, n)) return 0.0;  // inside a solid hull, or another hull
+        // inside a solid hull, or another hull (never, under a solid light's cover: hulls are its umbra)
+        if (!u_outside && wl <= head.z && inside(p, base, n)) return 0.0;
         // the piece's extreme vertices as seen from p (pseudo-angles about its centre's direction), then
         // their offsets u = dist sin(angle) from the axis towards the disc, in radii
         vec2 ref = wl > 0.0 ? w / wl : normalize(vertex_at(base, 0) - p);
         float pmin = BIG, pmax = -BIG;
         vec2 vmin, vmax;
-        for (int k = 0; k < n; ++k) {
-            vec2 v = vertex_at(base, k) - p;
-            float q = pseudo_angle(ref, v);
-            if (q < pmin) { pmin = q; vmin = v; }
-            if (q > pmax) { pmax = q; vmax = v; }
+        for (int k = 0; k < texels_of(n); ++k) {
+            vec4 t = fetch(base + k) - p.xyxy;
+            float q1 = pseudo_angle(ref, t.xy), q2 = pseudo_angle(ref, t.zw);
+            if (q1 < pmin) { pmin = q1; vmin = t.xy; }
+            if (q1 > pmax) { pmax = q1; vmax = t.xy; }
+            if (q2 < pmin) { pmin = q2; vmin = t.zw; }
+            if (q2 > pmax) { pmax = q2; vmax = t.zw; }
         }
         // going counter-clockwise from vmin to vmax (less than half a turn): an end behind p was
         // reached past the side, so it lies beyond the disc there; both behind: the piece is behind p
