@@ -79,18 +79,24 @@ def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> N
         error_plot.plot(ms, err, pen=pg.mkPen(colours[method], width=2), symbol="o", symbolSize=6,
                         symbolBrush=colours[method], name=method)
     time_plot.setLogMode(x=False, y=True)
-    time_plot.setLabel("bottom", rows[0]["knob_name"] if rows else "knob")
+    knob_name = rows[0]["knob_name"] if rows else "knob"
+    time_plot.setLabel("bottom", knob_name)
     time_plot.setLabel("left", "frame time (ms)")
     time_plot.setTitle("Time against quality, per scene")
+    # one axis: rows measured against another knob (a method's own, or extra set-ups) would share it
+    # meaninglessly, so they appear only on the left
+    timed = [r for r in rows if r["knob_name"] == knob_name]
     symbols = "ostd+x"
-    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    scenes = list(dict.fromkeys(r["scene"] for r in timed))
     for method in methods:
+        named = False  # one legend entry per method; its scenes differ by symbol
         for si, sc in enumerate(scenes):
-            pts = sorted((r["knob"], r["ms_median"]) for r in rows if r["method"] == method and r["scene"] == sc)
+            pts = sorted((r["knob"], r["ms_median"]) for r in timed if r["method"] == method and r["scene"] == sc)
             if pts:
                 knob, ms = np.array(pts).T
                 time_plot.plot(knob, ms, pen=pg.mkPen(colours[method], width=1.5), symbol=symbols[si % len(symbols)],
-                               symbolSize=6, symbolBrush=colours[method], name=f"{method} / {sc}")
+                               symbolSize=6, symbolBrush=colours[method], name=None if named else method)
+                named = True
 
 
 def save_chart(path: str | os.PathLike, rows: list[dict], size: tuple[int, int] = (1400, 600)) -> None:
