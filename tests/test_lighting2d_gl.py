@@ -40,8 +40,8 @@ def max_error(a, b) -> float:
     return float(np.abs(np.asarray(a, np.float64) - b).max())
 
 
-@pytest.mark.parametrize("name", ["a_penumbra_transition", "e_antumbra", "g_overlapping_hulls",
-                                  "j_concave_three_lights", "i_textured_light"])
+@pytest.mark.parametrize("name", ["a_penumbra_transition", "d_line_of_sight", "e_antumbra",
+                                  "g_overlapping_hulls", "j_concave_three_lights", "i_textured_light"])
 def test_default_method_is_within_two_levels_of_the_reference(renderer, name):
     scene = scene2d.load(SCENES / f"{name}.json")
     assert max_error(lightmap(renderer, scene), reference.render(scene, *SIZE)) <= TWO
