@@ -255,6 +255,7 @@ class Lighting2DRenderer:
         fbo.clear(depth=1.0, viewport=fbo.scissor)
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<="
+        self.ctx.disable(moderngl.BLEND)
         hull = self._program("light2d_hull", common, u_color=(0.0, 0.0, 0.0, 0.0))
         for umbra, depth in [(False, 0.0)] + [(True, -0.5)] * solid:
             if umbra:
