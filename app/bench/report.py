@@ -97,6 +97,19 @@ def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> N
                 time_plot.plot(knob, ms, pen=pg.mkPen(colours[method], width=1.5), symbol=symbols[si % len(symbols)],
                                symbolSize=6, symbolBrush=colours[method], name=None if named else method)
                 named = True
+    for p in (error_plot, time_plot):
+        p.legend.setVisible(bool(p.legend.items))  # an empty legend still draws its box
+
+
+def clear_chart(error_plot, time_plot) -> None:
+    """Both plots empty: no curves, titles, axis labels or legend box."""
+    for p in (error_plot, time_plot):
+        p.clear()
+        p.setTitle(None)
+        for axis in ("left", "bottom"):
+            p.setLabel(axis, "")
+        if p.legend is not None:
+            p.legend.setVisible(False)
 
 
 def save_chart(path: str | os.PathLike, rows: list[dict], size: tuple[int, int] = (1400, 600)) -> None:

@@ -49,9 +49,7 @@ class BenchDock(QWidget):
         if csv_path.exists():
             self.load(csv_path)
         else:
-            for p in (self.error_plot, self.time_plot):
-                p.clear()
-                p.setTitle(None)
+            report.clear_chart(self.error_plot, self.time_plot)
             self.status.setText(f"{name}: no measurements yet" if name in TECHNIQUES else f"{workspace} has no bench yet")
 
     def load(self, path: Path) -> None:
