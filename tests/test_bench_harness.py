@@ -57,3 +57,23 @@ def test_read_csv_refuses_other_files(tmp_path):
     path.write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match="not a bench CSV"):
         report.read_csv(path)
+
+
+def test_chart_right_panel_keeps_to_the_first_knob_with_one_legend_entry_per_method(qapp):
+    import pyqtgraph as pg
+
+    def row(method, knob_name, knob, scene, ms):
+        return {"method": method, "knob_name": knob_name, "knob": knob, "scene": scene, "ms_median": ms,
+                "rmse": 0.01 / ms, "max_abs_error": 0.02}
+
+    rows = [row(m, "lightmap_scale", k, s, k * 4 + i) for i, m in enumerate(("exact", "hard"))
+            for k in (0.5, 1.0) for s in ("a", "b")]
+    rows += [row("jitter", "samples", n, "a", n) for n in (4, 16)]  # another knob: left panel only
+    error_plot, time_plot = pg.PlotItem(), pg.PlotItem()
+    report.plot(error_plot, time_plot, rows)
+    assert len(error_plot.listDataItems()) == 3
+    assert len(time_plot.listDataItems()) == 4  # exact and hard, scenes a and b
+    assert [label.text for _, label in time_plot.legend.items] == ["exact", "hard"]
+    assert time_plot.legend.isVisible()
+    report.clear_chart(error_plot, time_plot)
+    assert not error_plot.listDataItems() and not time_plot.legend.isVisible()
