@@ -44,7 +44,7 @@ def test_a_light_is_selected_and_dragged_in_one_undo_step(window, qtbot):
     assert window.editor.lighting_selection == ("light", 0)
     x, y = window.editor.lighting.lights[0].position
     assert math.dist((x, y), (60, -40)) < 3
-    assert window.lighting_panel.light_box.isVisible() and abs(window.lighting_panel.l_x.value() - x) < 0.01
+    assert window.lighting_panel.light_box.isVisible() and abs(window.lighting_panel.l_place.x.value() - x) < 0.01
     window.run("undo")
     assert window.editor.digest() == before
 

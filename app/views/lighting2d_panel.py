@@ -46,6 +46,30 @@ class ColorButton(QPushButton):
             self.chosen((picked.redF(), picked.greenF(), picked.blueF()))
 
 
+class _Placement:
+    """A light's or hull's position, rotation (degrees) and scale in spin boxes; each edit is sent as
+    `send(key, value)` with the property's console syntax."""
+
+    def __init__(self, send, scale_max: float, scale_step: float) -> None:
+        self.x, self.y = _spin(-1e7, 1e7, 5), _spin(-1e7, 1e7, 5)
+        self.rot = _spin(-3600, 3600, 5, 1)
+        self.sx, self.sy = _spin(0, scale_max, scale_step), _spin(0, scale_max, scale_step)
+        for box in (self.x, self.y):
+            box.valueChanged.connect(lambda _=0: send("position", f"{self.x.value()} {self.y.value()}"))
+        self.rot.valueChanged.connect(lambda v: send("rotation", repr(math.radians(v))))
+        for box in (self.sx, self.sy):
+            box.valueChanged.connect(lambda _=0: send("scale", f"{self.sx.value()} {self.sy.value()}"))
+
+    def rows(self, scale_label: str) -> list:
+        return [("x", self.x), ("y", self.y), ("Rotation °", self.rot), (f"{scale_label} x", self.sx),
+                (f"{scale_label} y", self.sy)]
+
+    def show(self, item) -> None:
+        values = (*item.position, math.degrees(item.rotation), *item.scale)
+        for box, value in zip((self.x, self.y, self.rot, self.sx, self.sy), values):
+            box.setValue(value)
+
+
 class Lighting2DPanel(QWidget):
     def __init__(self, editor, run, tool=None, parent=None) -> None:
         super().__init__(parent)
@@ -88,14 +112,7 @@ class Lighting2DPanel(QWidget):
         self.l_kind = QComboBox()
         self.l_kind.addItems(LIGHT_KINDS)
         self.l_kind.currentTextChanged.connect(lambda v: self._light("kind", v))
-        self.l_x, self.l_y = _spin(-1e7, 1e7, 5), _spin(-1e7, 1e7, 5)
-        for box in (self.l_x, self.l_y):
-            box.valueChanged.connect(lambda _=0: self._light("position", f"{self.l_x.value()} {self.l_y.value()}"))
-        self.l_rot = _spin(-3600, 3600, 5, 1)
-        self.l_rot.valueChanged.connect(lambda v: self._light("rotation", repr(math.radians(v))))
-        self.l_sx, self.l_sy = _spin(0, 1e7, 10), _spin(0, 1e7, 10)
-        for box in (self.l_sx, self.l_sy):
-            box.valueChanged.connect(lambda _=0: self._light("scale", f"{self.l_sx.value()} {self.l_sy.value()}"))
+        self.l_place = _Placement(self._light, 1e7, 10)
         self.l_color = ColorButton("Light colour", lambda c: self._light("color", _rgb(c)))
         self.l_intensity = _spin(0, 100, 0.1)
         self.l_intensity.valueChanged.connect(lambda v: self._light("intensity", repr(v)))
@@ -114,8 +131,7 @@ class Lighting2DPanel(QWidget):
         self.l_ignored = QLineEdit()
         self.l_ignored.setPlaceholderText("hull numbers, e.g. 0 2")
         self.l_ignored.editingFinished.connect(lambda: self._light("ignored_hulls", self.l_ignored.text().strip() or "none"))
-        for label, widget in (("Kind", self.l_kind), ("x", self.l_x), ("y", self.l_y), ("Rotation °", self.l_rot),
-                              ("Size x", self.l_sx), ("Size y", self.l_sy), ("Colour", self.l_color),
+        for label, widget in (("Kind", self.l_kind), *self.l_place.rows("Size"), ("Colour", self.l_color),
                               ("Intensity", self.l_intensity), ("Radius", self.l_radius), ("Cone decay", self.l_decay),
                               ("Height", self.l_height), ("", self.l_enabled), ("", self.l_shadows),
                               ("Hulls", self.l_type), ("Ignores", self.l_ignored)):
@@ -124,20 +140,12 @@ class Lighting2DPanel(QWidget):
 
         self.hull_box = QGroupBox("Hull")
         hf = QFormLayout(self.hull_box)
-        self.h_x, self.h_y = _spin(-1e7, 1e7, 5), _spin(-1e7, 1e7, 5)
-        for box in (self.h_x, self.h_y):
-            box.valueChanged.connect(lambda _=0: self._hull("position", f"{self.h_x.value()} {self.h_y.value()}"))
-        self.h_rot = _spin(-3600, 3600, 5, 1)
-        self.h_rot.valueChanged.connect(lambda v: self._hull("rotation", repr(math.radians(v))))
-        self.h_sx, self.h_sy = _spin(0, 1e6, 0.1), _spin(0, 1e6, 0.1)
-        for box in (self.h_sx, self.h_sy):
-            box.valueChanged.connect(lambda _=0: self._hull("scale", f"{self.h_sx.value()} {self.h_sy.value()}"))
+        self.h_place = _Placement(self._hull, 1e6, 0.1)
         self.h_enabled = QCheckBox("enabled")
         self.h_enabled.toggled.connect(lambda on: self._hull("enabled", str(int(on))))
         self.h_state = QLabel()
         self.h_state.setWordWrap(True)
-        for label, widget in (("x", self.h_x), ("y", self.h_y), ("Rotation °", self.h_rot), ("Scale x", self.h_sx),
-                              ("Scale y", self.h_sy), ("", self.h_enabled), ("", self.h_state)):
+        for label, widget in (*self.h_place.rows("Scale"), ("", self.h_enabled), ("", self.h_state)):
             hf.addRow(label, widget)
         layout.addWidget(self.hull_box)
         self.help = QLabel("Click: select · drag: move · round handle: rotate · square: scale\n"
@@ -198,9 +206,8 @@ class Lighting2DPanel(QWidget):
                 self.light_box.setTitle(f"Light {li}")
                 light = scene.lights[li]
                 self.l_kind.setCurrentText(light.kind)
-                for box, value in ((self.l_x, light.position[0]), (self.l_y, light.position[1]),
-                                   (self.l_rot, math.degrees(light.rotation)), (self.l_sx, light.scale[0]),
-                                   (self.l_sy, light.scale[1]), (self.l_intensity, light.intensity),
+                self.l_place.show(light)
+                for box, value in ((self.l_intensity, light.intensity),
                                    (self.l_radius, light.radius), (self.l_decay, light.cone_decay),
                                    (self.l_height, light.height)):
                     box.setValue(value)
@@ -213,10 +220,7 @@ class Lighting2DPanel(QWidget):
             if hi is not None:
                 hull = scene.hulls[hi]
                 self.hull_box.setTitle(f"Hull {hi} · {len(hull.points)} points")
-                for box, value in ((self.h_x, hull.position[0]), (self.h_y, hull.position[1]),
-                                   (self.h_rot, math.degrees(hull.rotation)), (self.h_sx, hull.scale[0]),
-                                   (self.h_sy, hull.scale[1])):
-                    box.setValue(value)
+                self.h_place.show(hull)
                 self.h_enabled.setChecked(hull.enabled)
                 self.h_state.setText("valid" if hull.valid else f"INVALID, ignored: {hull.invalid_reason}")
                 self.h_state.setStyleSheet("" if hull.valid else "color: #ff5050")
