@@ -32,11 +32,6 @@ float g(float x) {
     return (x * sqrt(max(1.0 - x * x, 0.0)) + asin(x)) / PI;
 }
 
-vec4 g(vec4 x) {
-    x = clamp(x, -1.0, 1.0);
-    return (x * sqrt(max(1.0 - x * x, 0.0)) + asin(x)) / PI;
-}
-
 // The loops below walk the outline a texel (two vertices) at a time; the repeated first vertex of an
 // odd count makes an edge of length 0, which changes none of their answers.
 bool inside(vec2 p, int base, int n) {
