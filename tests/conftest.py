@@ -1,3 +1,4 @@
+import gc
 import os
 import tempfile
 
@@ -17,9 +18,40 @@ def user_config_dir(tmp_path, monkeypatch):
     return path
 
 
+def release_qt_windows() -> None:
+    """Destroy every Qt window still alive and leave no Qt GL context current in this thread.
+
+    A thread can have a current context of only one window-system API (libglvnd), so a window's GLX context
+    left current would make the next EGL fixture's context fail to become current."""
+    from PySide6.QtCore import QCoreApplication, QEvent
+    from PySide6.QtGui import QOpenGLContext
+    from PySide6.QtWidgets import QApplication
+
+    if QApplication.instance() is None:
+        return
+    for widget in QApplication.topLevelWidgets():
+        widget.close()
+        widget.deleteLater()
+    for _ in range(2):  # the second pass deletes what the first one's deletions posted
+        QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
+        gc.collect()
+    current = QOpenGLContext.currentContext()
+    if current is not None:
+        current.doneCurrent()
+
+
+@pytest.fixture(autouse=True)
+def _qt_windows_die_with_their_test(request):
+    """Tests that open windows (through qtbot) leave none behind for the next test."""
+    yield
+    if "qtbot" in request.fixturenames:
+        release_qt_windows()
+
+
 @pytest.fixture(scope="module")
 def gl():
     """A headless EGL context (Mesa llvmpipe here), current, with a small framebuffer bound."""
+    release_qt_windows()
     ctx = create_context()
     fbo = ctx.simple_framebuffer((8, 8))
     fbo.use()  # an EGL context has no default framebuffer

@@ -1,5 +1,4 @@
 """Typing into the console dock: completion, history across a restart, errors, Lua, runaway scripts."""
-import time
 
 from PySide6.QtCore import Qt
 
@@ -69,10 +68,8 @@ def test_a_lua_error_names_the_script_and_line(window, qtbot, tmp_path):
 def test_a_runaway_lua_loop_is_stopped_within_its_budget(window, qtbot, tmp_path):
     script = tmp_path / "spin.lua"
     script.write_text("local n = 0\nwhile true do n = n + 1 end\n")
-    start = time.monotonic()
     type_line(qtbot, window, f"lua {script}")
-    assert time.monotonic() - start < 3.0
-    assert "spin.lua:2: instruction budget exceeded" in log_text(window)
+    assert "spin.lua:2: instruction budget exceeded" in log_text(window)  # the budget stopped it, not a clock
     type_line(qtbot, window, "snow.level 3")  # the editor carries on
     assert window.editor.snowflake.level == 3
 

@@ -44,8 +44,7 @@ class PaintState:
         assert self.console.execute(f"stroke z {z} {size} 255 {self.frame % 256} 0 255 {u} {v} {u + 5} {v + 3}",
                                     echo=False)
         if self.full_upload:
-            self.texture.texture.write(self.editor.volume.data)
-            self.texture.watch.changes(self.editor.volume)  # the full upload covered every change
+            self.texture.write_all(self.editor.volume)
         else:
             self.texture.sync(self.editor.volume)
 

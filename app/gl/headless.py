@@ -9,8 +9,29 @@ import numpy as np
 SAMPLES = 4  # the Qt viewport asks for the same, so both hosts give the same pixels
 
 
+class ContextError(RuntimeError):
+    """The headless context exists but is not the one GL calls would reach."""
+
+
+def _egl() -> ctypes.CDLL:
+    egl = ctypes.CDLL("libEGL.so.1")
+    egl.eglGetCurrentDisplay.restype = egl.eglGetCurrentContext.restype = ctypes.c_void_p
+    egl.eglMakeCurrent.argtypes = [ctypes.c_void_p] * 4
+    return egl
+
+
 def create_context() -> moderngl.Context:
-    return moderngl.create_standalone_context(backend="egl", require=330)
+    """A headless EGL context, current in this thread, or ContextError.
+
+    libglvnd lets a thread have a current context of one window-system API only: while a Qt window's GLX
+    context is current, eglMakeCurrent is refused. glcontext ignores that refusal, and every GL call would
+    then go to Qt's context (until the window dies and nothing is current), so check."""
+    ctx = moderngl.create_standalone_context(backend="egl", require=330)
+    if not _egl().eglGetCurrentContext():
+        ctx.release()
+        raise ContextError("the headless EGL context could not be made current: another API's context (a Qt "
+                           "window's GLX context?) is current in this thread; release that one first")
+    return ctx
 
 
 def release_context(ctx: moderngl.Context) -> None:
@@ -18,11 +39,9 @@ def release_context(ctx: moderngl.Context) -> None:
     in this thread (Mesa refuses while an EGL context is still current; EGL only destroys a
     current context once it stops being current)."""
     ctx.release()
-    egl = ctypes.CDLL("libEGL.so.1")
-    egl.eglGetCurrentDisplay.restype = ctypes.c_void_p
+    egl = _egl()
     display = egl.eglGetCurrentDisplay()
     if display:
-        egl.eglMakeCurrent.argtypes = [ctypes.c_void_p] * 4
         egl.eglMakeCurrent(display, None, None, None)
 
 

@@ -1,7 +1,10 @@
 """Koch snowflake renderer: points in, line strips out of a GLSL 330 geometry shader."""
 from __future__ import annotations
 
+import weakref
+
 import moderngl
+
 import numpy as np
 
 from app.gl.vertex_arrays import VertexArrays
@@ -28,7 +31,9 @@ class SnowflakeRenderer:
         self.shaders = shaders
         self._flakes = ctx.buffer(reserve=12)
         self._count = 0
-        self._uploaded = None  # scene version whose flakes are in the buffer
+        self._uploaded = None  # scene version whose flakes are in the buffer...
+        self._uploaded_scene = None  # ...and that scene (weakly): another scene may have the same version
+        self._capture_fbo: moderngl.Framebuffer | None = None
         self._vaos = VertexArrays(lambda program: ctx.vertex_array(program, [(self._flakes, "3f/i", "in_flake")]))
 
     def render(self, fbo: moderngl.Framebuffer, scene: SnowflakeScene, camera: Camera2D,
@@ -48,6 +53,11 @@ class SnowflakeRenderer:
             return np.zeros((0, 2, 2), "f4")
         segments = self._count * chunks * 4 ** min(split_level(scene.level)[0], CHUNK_DEPTH)
         out = self.ctx.buffer(reserve=segments * 2 * 2 * 4)
+        if self._capture_fbo is None:
+            self._capture_fbo = self.ctx.simple_framebuffer((1, 1))
+        # Draw calls need a complete framebuffer even with rasterizing off; a surfaceless (EGL) context has
+        # none bound once the last target was released.
+        self._capture_fbo.use()
         try:
             vao.transform(out, mode=moderngl.POINTS, vertices=chunks, instances=self._count)
             return np.frombuffer(out.read(), "f4").reshape(-1, 2, 2).copy()
@@ -55,13 +65,13 @@ class SnowflakeRenderer:
             out.release()
 
     def _prepare(self, program: moderngl.Program, scene: SnowflakeScene, camera: Camera2D, width: int, height: int):
-        if self._uploaded != scene.version:
+        if self._uploaded != scene.version or self._uploaded_scene is None or self._uploaded_scene() is not scene:
             data = scene.instances()
             if data.nbytes > self._flakes.size:
                 self._flakes.orphan(data.nbytes)
             if data.size:
                 self._flakes.write(data)
-            self._count, self._uploaded = len(data), scene.version
+            self._count, self._uploaded, self._uploaded_scene = len(data), scene.version, weakref.ref(scene)
         if self._count == 0:
             return None, 0
         m, t, depth, chunks = chunk_layout(scene.level)

@@ -32,6 +32,15 @@ class VolumeTexture:
             self.uploaded_voxels += w * h * d
         return self.texture
 
+    def write_all(self, volume) -> None:
+        """Re-upload every voxel (the paint bench's baseline against sync's sub-box)."""
+        if self.texture is None or self.texture.size != volume.size:
+            self.sync(volume)  # a new texture takes every voxel anyway
+            return
+        self.watch.changes(volume)  # the full upload covers every change
+        self.texture.write(volume.data)
+        self.uploaded_voxels += volume.data.shape[0] * volume.data.shape[1] * volume.data.shape[2]
+
     def read(self) -> np.ndarray:
         """The texture's contents as (d, h, w, 4) uint8: what the GPU really holds."""
         w, h, d = self.texture.size

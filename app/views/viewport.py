@@ -1,6 +1,7 @@
 """The central QOpenGLWidget: draws the current workspace through moderngl, on demand only."""
 from __future__ import annotations
 
+import gc
 import time
 from collections import deque
 
@@ -44,9 +45,26 @@ class Viewport(QOpenGLWidget):
 
     def initializeGL(self) -> None:
         self.ctx = moderngl.create_context()
+        self.ctx.gc_mode = "context_gc"  # objects the renderer drops are freed by ctx.gc(), with the context current
         self.renderer = WorkspaceRenderer(self.ctx, on_shader_error=lambda e: self.gl_error.emit(str(e)))
+        self.context().aboutToBeDestroyed.connect(self._release_gl, Qt.ConnectionType.DirectConnection)
         self._shader_timer.start()
         self.gl_ready.emit(f"{self.ctx.info['GL_RENDERER']}, OpenGL {self.ctx.version_code / 100:.1f}")
+
+    def _release_gl(self) -> None:
+        """The context is going (the window closes): free our GL objects while it can still be made current,
+        and leave nothing current for the next context this thread uses."""
+        self.makeCurrent()
+        try:
+            self._shader_timer.stop()
+            self._idle_timer.stop()
+            self.renderer = None
+            gc.collect()  # the renderer's programs, buffers and textures, into the context's garbage list
+            self.ctx.gc()
+            self.ctx.release()
+            self.ctx = None
+        finally:
+            self.doneCurrent()
 
     def paintGL(self) -> None:
         start = time.perf_counter()
