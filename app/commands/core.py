@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from app.console import files
 from app.console.registry import CommandError
 from app.io import snowflake_scene
 from app.model.snowflake import SceneError
@@ -47,16 +48,17 @@ def register(editor: "Editor") -> None:
 
     @reg.command("scene.load", "path", "Load the current workspace's scene file (checked before anything changes)")
     def scene_load(path: str) -> None:
-        scene_file(0)(path)
+        scene_file(0)(str(files.readable(console, path)))
 
     @reg.command("scene.save", "path", "Save the current workspace's scene (atomically)", recorded=False)
     def scene_save(path: str) -> None:
         save = scene_file(1)
+        target = files.writable(console, path)
         try:
-            save(path)
+            save(target)
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
-        console.print(f"saved {path}")
+        console.print(f"saved {target}")
 
     def history_step(which: int, nothing: str) -> None:
         # a workspace without its own history (the snowflake) undoes the volume, as before there were two

@@ -107,9 +107,9 @@ def register(editor: "Editor") -> None:
     @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd)",
                  completer=volume_files)
     def load(path: str) -> None:
-        found = files.find(path) if "%" not in path else Path(path)
+        found = files.find(path, console) if "%" not in path else None  # a series names its slices
         try:
-            data = read_volume(found or path)
+            data = read_volume(found or files.readable(console, path))
         except FormatError as exc:
             raise CommandError(str(exc)) from None
         replace(data, f"loaded {path}")
@@ -117,11 +117,12 @@ def register(editor: "Editor") -> None:
     @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically)", recorded=False,
                  completer=volume_files)
     def save(path: str) -> None:
+        target = files.writable(console, path)
         try:
-            write_volume(path, volume().data)
+            write_volume(target, volume().data)
         except (FormatError, OSError) as exc:
             raise CommandError(str(exc)) from None
-        console.print(f"saved {path}")
+        console.print(f"saved {target}")
 
     @reg.command("sample", "name [size:int]", "Load a sample volume: " + ", ".join(SAMPLES),
                  completer=lambda p: [s for s in SAMPLES if s.startswith(p)])

@@ -8,6 +8,8 @@ from __future__ import annotations
 import shlex
 import string
 
+from app.console.registry import check_text
+
 NAMED = ("TAB", "ENTER", "ESCAPE", "SPACE", "BACKSPACE", "UPARROW", "DOWNARROW", "LEFTARROW",
          "RIGHTARROW", "INS", "DEL", "PGDN", "PGUP", "HOME", "END", "PAUSE", "SHIFT", "CTRL", "ALT",
          "KP_PLUS", "KP_MINUS", "MOUSE1", "MOUSE2", "MOUSE3", "MWHEELUP", "MWHEELDOWN")
@@ -39,7 +41,7 @@ class Binds:
         self.table: dict[tuple[str, str], str] = {}
 
     def bind(self, spec: str, command: str) -> None:
-        self.table[split(spec)] = command
+        self.table[split(spec)] = check_text(f"bind {spec}", command)
 
     def unbind(self, spec: str) -> bool:
         return self.table.pop(split(spec), None) is not None

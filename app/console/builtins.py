@@ -2,11 +2,10 @@
 from __future__ import annotations
 
 import shlex
-from pathlib import Path
 
 from app.console import files
 from app.console.binds import KEYS, Binds, split
-from app.console.console import Console
+from app.console.console import Console, Origin
 from app.console.lua import LuaScripting
 from app.console.registry import CommandError, Cvar, Reported
 from app.io.atomic import write_text
@@ -34,7 +33,11 @@ def config_lines(console: Console, binds: Binds) -> list[str]:
 
 def exec_file(console: Console, name: str) -> bool:
     """Run a .cfg line by line; a failing line is reported with its place and the rest still runs."""
-    path = files.find(name)
+    try:
+        path = files.find(name, console)
+    except CommandError as exc:
+        console.error(f"exec: {exc}")
+        return False
     if path is None:
         console.error(f"exec: cannot find {name}")
         return False
@@ -43,12 +46,8 @@ def exec_file(console: Console, name: str) -> bool:
     except (OSError, UnicodeDecodeError) as exc:
         console.error(f"exec: cannot read {path}: {exc}")
         return False
-    ok = True
-    for number, line in enumerate(text.splitlines(), start=1):
-        if not console.execute(line, echo=False):
-            console.error(f"exec: {path.name}:{number}: {line.strip()}")
-            ok = False
-    return ok
+    return console.run_lines(text.splitlines(), f"exec {path.name}", Origin("config", path.parent),
+                             lambda number, line: console.error(f"exec: {path.name}:{number}: {line.strip()}"))
 
 
 def register(console: Console, binds: Binds) -> LuaScripting:
@@ -56,11 +55,15 @@ def register(console: Console, binds: Binds) -> LuaScripting:
     lua = LuaScripting(console)
 
     def run_lua(name: str) -> bool:
-        path = files.find(name)
+        try:
+            path = files.find(name, console)
+        except CommandError as exc:
+            console.error(f"lua: {exc}")
+            return False
         if path is None:
             console.error(f"lua: cannot find {name}")
             return False
-        with console.batch():  # a script's edits undo as one
+        with console.batch(), console.untrusted("lua", path.parent):  # a script's edits undo as one
             return lua.run_file(path)
 
     console.file_runners[".lua"] = run_lua
@@ -154,11 +157,12 @@ def register(console: Console, binds: Binds) -> LuaScripting:
 
     @reg.command("condump", "file", "Write the console log to a file", recorded=False)
     def condump(path: str) -> None:
+        target = files.writable(console, path)
         try:
-            write_text(path, "".join(f"{line.text}\n" for line in console.log))
+            write_text(target, "".join(f"{line.text}\n" for line in console.log))
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
-        console.print(f"dumped {len(console.log)} lines to {path}")
+        console.print(f"dumped {len(console.log)} lines to {target}")
 
     @reg.command("alias", "[name] [commands...]", "Name a command line; alone, list the aliases", completer=names)
     def alias(name: str | None = None, words: list[str] | None = None) -> None:
@@ -181,7 +185,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
     @reg.command("writeconfig", "[file]", "Save archived cvars, binds and aliases (default: the user config)",
                  recorded=False)
     def writeconfig(path: str | None = None) -> None:
-        target = Path(path) if path else files.user_config()
+        target = files.writable(console, path) if path else files.user_config()
         try:
             write_text(target, "// written by Shadelab: archived cvars, binds, aliases\n"
                        + "".join(f"{line}\n" for line in config_lines(console, binds)))

@@ -1,16 +1,38 @@
 """The console: parses command lines, runs them through the registry, keeps the log. No Qt."""
 from __future__ import annotations
 
+import re
 import shlex
 import traceback
 from contextlib import contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable
 
-from app.console.registry import CommandError, Registry, Reported
+from app.console.registry import CommandError, Registry, Reported, check_text
 
-MAX_LOG = 10_000  # lines kept; the oldest go first
+MAX_LOG = 10_000  # lines kept; the oldest go first...
+MAX_LOG_CHARS = 4 * 2**20  # ...and at most this much text
+MAX_LOG_LINE = 16 * 2**10  # a longer printed line is cut here: a text view lays out whole lines
 MAX_DEPTH = 32  # aliases and exec'd files calling each other: stop a loop, not a deep script
+MAX_LINE = 256 * 2**10  # characters in one console line (a long stroke is a few thousand)
+MAX_WORD = 64 * 2**10  # characters in one argument
+MAX_EXPANDED = 20_000  # commands one alias or config file may run, nested ones included
+MAX_WAIT_CHAIN = 10_000  # `wait`s that follow one another (an alias that waits and calls itself)
+MAX_WAITING = 1_000  # lines waiting for their frame at once
+
+
+class RunawayError(CommandError):
+    """An alias or config ran more commands than any honest one does: the whole line stops."""
+
+
+@dataclass(frozen=True)
+class Origin:
+    """Who wrote the commands that run now, when it is not the user typing them (DESIGN.md rule 6).
+    `home`: the folder of the file that runs (a demo's snapshot beside it may be read)."""
+
+    kind: str  # "lua", "demo", "config", "bind" or "alias"
+    home: Path | None = None
 
 
 @dataclass(frozen=True)
@@ -43,16 +65,52 @@ def strip_comment(line: str) -> str:
     return line
 
 
+# One piece of a word, as POSIX shlex reads it: plain characters, a backslash escape, a single- or a
+# double-quoted string, blanks between words, or a quote/backslash with nothing to close it.
+_PIECE = re.compile(r"""([^ \t\r\n'"\\]+)|\\(.)|'([^']*)'|"((?:[^"\\]|\\.)*)"|([ \t\r\n]+)|(.)""", re.S)
+_DOUBLE_QUOTED_ESCAPE = re.compile(r'\\(["\\])')  # inside "...", only \" and \\ are escapes
+_PLAIN, _ESCAPED, _SINGLE, _DOUBLE, _BLANK, _STRAY = range(1, 7)
+
+
+def split_words(text: str) -> list[str]:
+    """shlex.split(text) in linear time (shlex grows each word a character at a time: quadratic)."""
+    words: list[str] = []
+    word: list[str] | None = None  # None between words; a quoted '' still makes an (empty) word
+    for piece in _PIECE.finditer(text):
+        kind, value = piece.lastindex, piece.group(piece.lastindex)
+        if kind == _BLANK:
+            if word is not None:
+                words.append("".join(word))
+            word = None
+        elif kind == _STRAY:
+            raise ValueError("No escaped character" if value == "\\" else "No closing quotation")
+        else:
+            word = [] if word is None else word
+            word.append(_DOUBLE_QUOTED_ESCAPE.sub(r"\1", value) if kind == _DOUBLE else value)
+    if word is not None:
+        words.append("".join(word))
+    return words
+
+
 def split_commands(line: str) -> list[list[str]]:
     """'a 1; b "x;y"' -> [['a', '1'], ['b', 'x;y']]: ';' separates commands outside quotes."""
     line = strip_comment(line)
     cuts = [i for i, ch in _outside_quotes(line) if ch == ";"]
     parts = [line[a + 1:b] for a, b in zip([-1, *cuts], [*cuts, len(line)])]
     try:
-        commands = [shlex.split(part) for part in parts]
+        commands = [split_words(part) for part in parts]
     except ValueError as exc:  # unbalanced quotes
-        raise CommandError(f"cannot parse {line!r}: {exc}") from None
+        raise CommandError(f"cannot parse {_shown(line)}: {exc}") from None
+    for words in commands:
+        long = next((w for w in words if len(w) > MAX_WORD), None)
+        if long is not None:
+            raise CommandError(f"an argument of {len(long)} characters (at most {MAX_WORD})")
     return [c for c in commands if c]
+
+
+def _shown(line: str, limit: int = 200) -> str:
+    """A line as an error message quotes it: cut short."""
+    return repr(line) if len(line) <= limit else f"{line[:limit]!r}... ({len(line)} characters)"
 
 
 class Console:
@@ -65,6 +123,9 @@ class Console:
     def __init__(self, registry: Registry | None = None) -> None:
         self.registry = registry or Registry()
         self.log: list[LogLine] = []
+        self.printed = 0  # lines ever printed: a view shows the last `printed - seen` of the log
+        self.clears = 0  # times `clear` emptied the log
+        self._log_chars = 0
         self.log_listeners: list[Callable[[LogLine], None]] = []
         self.executed_listeners: list[Callable[[str], None]] = []
         self.record_listeners: list[Callable[[str], None]] = []
@@ -72,14 +133,66 @@ class Console:
         self.file_runners: dict[str, Callable[[str], bool]] = {}  # ".lua" -> run that file
         self.batch_listeners: list[Callable[[bool], None]] = []  # True: a script starts, False: it ended
         self._batch_depth = 0
-        self.waiting: list[tuple[int, list[list[str]]]] = []  # (frames left, commands) after `wait`
+        # (frames left, commands, how many waits led here) after `wait`
+        self.waiting: list[tuple[int, list[list[str]], int]] = []
+        self._wait_chain = 0  # the chain length of the waited-for line running now
         self._depth = 0
+        self.origins: list[Origin] = []  # innermost last; empty while the user's own lines run
+        self._expanding = 0  # run_lines nesting, and the commands run since the outermost began
+        self._expanded = 0
+
+    @property
+    def trusted(self) -> bool:
+        """The commands running now are the user's own (typed, from the command line or a dialog)."""
+        return not self.origins
+
+    @contextmanager
+    def untrusted(self, kind: str, home: Path | None = None):
+        """Commands run inside come from a script, demo, config, bind or alias: files.py confines them."""
+        self.origins.append(Origin(kind, home))
+        try:
+            yield
+        finally:
+            self.origins.pop()
+
+    def run_lines(self, lines, label: str, origin: Origin, on_failure=None) -> bool:
+        """Run the lines an alias or a config file holds, as `origin`; False if any failed (each reported
+        through on_failure(number, line), the rest still run). With everything they run in turn, at most
+        MAX_EXPANDED commands: past that the outermost alias or config stops, with one message."""
+        outermost = self._expanding == 0
+        if outermost:
+            self._expanded = 0
+        self._expanding += 1
+        self.origins.append(origin)
+        ok = True
+        try:
+            for number, line in enumerate(lines, start=1):
+                if not self.execute(line, echo=False):
+                    ok = False
+                    if on_failure is not None:
+                        on_failure(number, line)
+        except RunawayError as exc:
+            if not outermost:
+                raise
+            self.error(f"{label}: {exc}")
+            return False
+        finally:
+            self._expanding -= 1
+            self.origins.pop()
+        return ok
 
     def print(self, text: str, level: str = "info") -> None:
+        if len(text) > MAX_LOG_LINE:
+            text = f"{text[:MAX_LOG_LINE]}... ({len(text) - MAX_LOG_LINE} more characters not shown)"
         line = LogLine(level, text)
         self.log.append(line)
-        if len(self.log) > MAX_LOG:
-            del self.log[: len(self.log) - MAX_LOG]
+        self.printed += 1
+        self._log_chars += len(text)
+        drop = 0
+        while len(self.log) - drop > MAX_LOG or self._log_chars > MAX_LOG_CHARS:
+            self._log_chars -= len(self.log[drop].text)
+            drop += 1
+        del self.log[:drop]
         for listener in self.log_listeners:
             listener(line)
 
@@ -88,6 +201,8 @@ class Console:
 
     def clear(self) -> None:
         self.log.clear()
+        self._log_chars = 0
+        self.clears += 1
 
     def execute(self, line: str, echo: bool | None = True) -> bool:
         """Run every command on the line; False if any failed (the later ones still run).
@@ -96,6 +211,9 @@ class Console:
         if not strip_comment(line).strip():
             return True
         try:
+            if len(line) > MAX_LINE:
+                raise CommandError(f"a line of {len(line)} characters (at most {MAX_LINE})")
+            check_text("a console line", line)
             commands = split_commands(line)
         except CommandError as exc:
             if echo:
@@ -118,7 +236,7 @@ class Console:
                 if frames is None:
                     return False
                 if commands[i + 1:]:
-                    self.waiting.append((frames, commands[i + 1:]))
+                    self.waiting.append((frames, commands[i + 1:], self._wait_chain + 1))
                 return ok
             ok = self._run(words) and ok
         return ok
@@ -127,11 +245,15 @@ class Console:
         """Advance one frame: run the commands whose `wait` is over. Hosts call this per frame."""
         due, self.waiting = self.waiting, []
         ok = True
-        for frames, commands in due:
-            if frames <= 1:
+        for frames, commands, chain in due:
+            if frames > 1:
+                self.waiting.append((frames - 1, commands, chain))
+                continue
+            self._wait_chain = chain
+            try:
                 ok = self._run_all(commands) and ok
-            else:
-                self.waiting.append((frames - 1, commands))
+            finally:
+                self._wait_chain = 0
         return ok
 
     def _wait_frames(self, words: list[str]) -> int | None:
@@ -142,16 +264,32 @@ class Console:
         except ValueError:
             self.error("wait: usage: wait [frames], frames within 1..100000")
             return None
+        if self._wait_chain >= MAX_WAIT_CHAIN:
+            self.error(f"wait: {MAX_WAIT_CHAIN} waits in a row (an alias that waits and calls itself?); stopped")
+            return None
+        if len(self.waiting) >= MAX_WAITING:
+            self.error(f"wait: {MAX_WAITING} lines are waiting already; refused")
+            return None
         return frames
 
     def _run(self, words: list[str]) -> bool:
         name, args = words[0], words[1:]
         if self._depth >= MAX_DEPTH:
-            self.error(f"{name}: nested more than {MAX_DEPTH} deep (an alias or exec that calls itself?)")
+            message = f"nested more than {MAX_DEPTH} deep (an alias or exec that calls itself?)"
+            if self._expanding:
+                raise RunawayError(message)
+            self.error(f"{name}: {message}")
             return False
         self._depth += 1
         try:
+            if self._expanding:
+                self._expanded += 1
+                if self._expanded > MAX_EXPANDED:
+                    raise RunawayError(f"more than {MAX_EXPANDED} commands from one alias or config "
+                                       "(one that calls itself?); stopped")
             recorded = self._dispatch(name, args)
+        except RunawayError:  # unwinds to the outermost alias or config (run_lines): one message, not thousands
+            raise
         except Reported:
             return False
         except (CommandError, ValueError) as exc:  # model validation errors are ValueErrors
@@ -191,7 +329,8 @@ class Console:
         if name in reg.aliases:
             if args:
                 raise CommandError(f"alias {name} takes no arguments")
-            return None if not self.execute(reg.aliases[name], echo=False) else False
+            ok = self.run_lines([reg.aliases[name]], f"alias {name}", Origin("alias"))
+            return None if not ok else False
         runner = next((r for suffix, r in self.file_runners.items() if name.endswith(suffix)), None)
         if runner is not None and not args:
             return None if not runner(name) else False

@@ -74,7 +74,7 @@ class Demos:
         def record(name: str) -> None:
             if self.recorder is not None:
                 raise CommandError(f"already recording {self.recorder.path}; stop first")
-            path = Path(_demo_path(name))
+            path = files.writable(self.console, _demo_path(name))
             if not path.parent.is_dir():
                 raise CommandError(f"no folder {path.parent}")
             self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble(path))

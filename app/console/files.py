@@ -4,6 +4,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from app.console.console import Console
+from app.console.registry import CommandError
 from app.resources import RESOURCES
 
 # Shipped files by kind, searched after the path as given (relative to the working folder).
@@ -26,15 +28,75 @@ def history_file() -> Path:
     return config_dir() / "history"
 
 
-def find(name: str) -> Path | None:
-    """The file as given, else the user's config folder, else the shipped resources of its kind."""
+# The file policy (DESIGN.md rule 6, docs/console.md "Files"). What the user types may read and write any
+# file. What a Lua script, a demo, a config, a bind or an alias runs may write only inside the user's
+# Shadelab folder (a relative name lands there) and read only there, in the shipped resources, and beside
+# the file that runs (the folder of the demo or script the user opened, not below it). Paths are compared
+# after resolving `..` and symbolic links.
+
+
+def _real(path: Path) -> Path:
+    return Path(os.path.realpath(path))
+
+
+def _inside(path: Path, root: Path) -> bool:
+    return path == root or root in path.parents
+
+
+def _who(console: Console) -> str:
+    return {"lua": "a Lua script", "demo": "a demo", "config": "a config file", "bind": "a key binding",
+            "alias": "an alias"}[console.origins[-1].kind]
+
+
+def may_read(console: Console, path: Path) -> bool:
+    if console.trusted:
+        return True
+    real = _real(path)
+    if any(_inside(real, _real(root)) for root in (config_dir(), RESOURCES)):
+        return True
+    return any(real.parent == _real(o.home) for o in console.origins if o.home is not None)
+
+
+def readable(console: Console, name: str) -> Path:
+    """`name` as given, if the commands running now may read it; else CommandError."""
+    path = Path(name).expanduser()
+    if not may_read(console, path):
+        raise CommandError(f"{_who(console)} may not read {name}: only the user folder {config_dir()}, the "
+                           "resources and files beside it (type the command yourself to read it)")
+    return path
+
+
+def writable(console: Console, name: str) -> Path:
+    """Where a command may write `name`: as given for the user's own lines; else inside the user folder,
+    where a relative name lands, or CommandError."""
+    path = Path(name).expanduser()
+    if console.trusted:
+        return path
+    root = _real(config_dir())
+    target = _real(root / path)  # an absolute path stays as it is
+    if not _inside(target, root):
+        raise CommandError(f"{_who(console)} may write only inside the user folder {root}, not {name} "
+                           "(type the command yourself to write there)")
+    return target
+
+
+def find(name: str, console: Console | None = None) -> Path | None:
+    """The file as given, else (for a script, demo or config) beside the file that runs, else the user's
+    config folder, else the shipped resources of its kind. With a console, one its commands may not read
+    is refused (CommandError) rather than not found."""
     path = Path(name).expanduser()
     candidates = [path]
     if not path.is_absolute():
+        if console is not None:
+            candidates += [o.home / path for o in reversed(console.origins) if o.home is not None]
         candidates.append(config_dir() / path)
         if path.suffix in SEARCH:
             candidates.append(SEARCH[path.suffix] / path)
-    return next((c for c in candidates if c.is_file()), None)
+    found = [c for c in candidates if c.is_file()]
+    allowed = [c for c in found if console is None or may_read(console, c)]
+    if found and not allowed:
+        readable(console, str(found[0]))  # says why
+    return allowed[0] if allowed else None
 
 
 def complete(prefix: str, suffixes: tuple[str, ...]) -> list[str]:

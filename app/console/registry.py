@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 import shlex
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -13,6 +14,19 @@ class CommandError(Exception):
 
 class Reported(CommandError):
     """A command failed and already said why (a script or file it ran logged the errors)."""
+
+
+# Control characters, and every character str.splitlines() breaks a config line at: text that holds one
+# would come back from config.cfg as two lines, the second one the attacker's. Tab is a blank.
+_CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029]")
+
+
+def check_text(what: str, text: str) -> str:
+    """Refuse console text that holds a control character (a newline, say); else return it."""
+    found = _CONTROL.search(text)
+    if found:
+        raise CommandError(f"{what} may not hold control characters (found {found.group()!r})")
+    return text
 
 
 @dataclass(frozen=True)
@@ -103,6 +117,7 @@ class Cvar:
         self.value = self.parse(str(self.default))
 
     def parse(self, text: str) -> Any:
+        check_text(f"{self.name}'s value", text)
         try:
             if self.type is bool:
                 value = _BOOL_WORDS[text.strip().lower()]
@@ -189,6 +204,7 @@ class Registry:
         self.cvar_changes += 1
 
     def set_alias(self, name: str, text: str) -> None:
+        check_text(f"alias {name}", text)
         if name not in self.aliases:
             self._claim(name)
         self.aliases[name] = text
@@ -197,7 +213,7 @@ class Registry:
         return sorted([*self.commands, *self.cvars, *self.aliases])
 
     def _claim(self, name: str) -> None:
-        if not name or any(c.isspace() for c in name) or name[0] in "\"';" or ";" in name:
+        if not name or any(c.isspace() for c in name) or name[0] in "\"';" or ";" in name or _CONTROL.search(name):
             raise ValueError(f"bad console name {name!r}")
         if name in self.commands or name in self.cvars or name in self.aliases:
             raise ValueError(f"console name {name!r} is already registered")

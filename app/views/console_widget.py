@@ -12,8 +12,9 @@ from PySide6.QtGui import QColor, QFont, QTextCharFormat
 from PySide6.QtWidgets import QLineEdit, QPlainTextEdit, QVBoxLayout, QWidget
 
 from app.console.completion import complete
-from app.console.console import Console, LogLine
+from app.console.console import MAX_LOG, Console, LogLine
 from app.io.atomic import write_text
+from app.views.weak_callback import weak_callback
 
 COLOURS = {"input": "#8ecae6", "info": "#d0d4dc", "error": "#ff6b6b"}
 HISTORY_LINES = 500
@@ -98,18 +99,20 @@ class ConsoleWidget(QWidget):
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addWidget(self.log)
         layout.addWidget(self.input)
-        self._shown = 0
-        console.log_listeners.append(lambda _line: self.sync())
+        self.log.setMaximumBlockCount(MAX_LOG)  # the view keeps no more than the console does
+        self._seen = self._clears = 0  # console.printed and console.clears when last synced
+        console.log_listeners.append(weak_callback(self, "sync", drop_args=True))
         self.sync()
 
     def sync(self) -> None:
-        """Show log lines added since the last sync; `clear` emptied the console's log."""
-        if len(self.console.log) < self._shown:
+        """Show log lines printed since the last sync (the oldest may have left the log); follow `clear`."""
+        new = self.console.printed - self._seen
+        if self.console.clears != self._clears:
             self.log.clear()
-            self._shown = 0
-        for line in self.console.log[self._shown:]:
+            self._clears = self.console.clears
+        for line in self.console.log[len(self.console.log) - min(new, len(self.console.log)):] if new else ():
             self._append(line)
-        self._shown = len(self.console.log)
+        self._seen = self.console.printed
 
     def _append(self, line: LogLine) -> None:
         fmt = QTextCharFormat()

@@ -18,6 +18,7 @@ from app.views.slice_picker import SlicePicker
 from app.views.snowflake_tool import SnowflakeTool
 from app.views.viewport import Viewport
 from app.views.volume_tool import VolumeTool
+from app.views.weak_callback import weak_callback
 
 EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520, "lighting2d": 300}
 
@@ -65,12 +66,13 @@ class MainWindow(QMainWindow):
         toggle = QAction("Console", self, shortcut=QKeySequence("`"), triggered=self.toggle_console)
         self.addAction(toggle)
         self.console_widget.input.closed.connect(self.toggle_console)
-        self.viewport.key_command.connect(self.run)
+        self.viewport.key_command.connect(self.run_bind)
 
         # Demo playback and `wait` advance on a timer that runs only while they have work.
         self.ticker = QTimer(self, interval=10, timeout=self._tick)
-        self.editor.demos.frame = self.viewport.repaint  # timedemo draws each frame now
-        self.editor.console.quit_listeners.append(self.close)
+        # The editor may outlive this window (tests, embedding): its listeners must not keep it alive.
+        self.editor.demos.frame = weak_callback(self.viewport, "repaint")  # timedemo draws each frame now
+        self.editor.console.quit_listeners.append(weak_callback(self, "close"))
 
         self.frame_label = QLabel()
         self.frame_label.setMinimumWidth(320)
@@ -80,7 +82,7 @@ class MainWindow(QMainWindow):
         self.viewport.gl_ready.connect(self._gl_ready)
         self.viewport.frame_rendered.connect(self._frame_stats)
         self.viewport.gl_error.connect(self.editor.console.error)
-        self.editor.console.executed_listeners.append(lambda _line: self.refresh())
+        self.editor.console.executed_listeners.append(weak_callback(self, "refresh", drop_args=True))
         self.refresh()
 
     def _tick(self) -> None:
@@ -147,6 +149,11 @@ class MainWindow(QMainWindow):
     def run(self, line: str) -> bool:
         """Every edit from a widget, the mouse or a key passes through the console (drags unechoed)."""
         return self.editor.console.execute(line, echo=None)
+
+    def run_bind(self, line: str) -> bool:
+        """A bound key's command: binds come from configs others may have written (DESIGN.md rule 6)."""
+        with self.editor.console.untrusted("bind"):
+            return self.run(line)
 
     def toggle_console(self) -> None:
         dock = self.docks["console"]
