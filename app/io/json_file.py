@@ -1,21 +1,155 @@
-"""Reading the project's versioned JSON files: one place for the checks every format shares."""
+"""Reading the project's versioned JSON files: one place for the checks every format shares.
+
+A file is read only if it is a regular file of at most MAX_BYTES, parsed with finite numbers only and
+no integer longer than MAX_DIGITS, and then validated whole against its format's JSON Schema, so a
+refusal names the first offending field by its JSON path (`lights[2].position: expected 2 numbers,
+got 4`). The schemas bound every string's length, every list's count and every number's range; the
+model's own constructors then check what the values mean."""
 from __future__ import annotations
 
 import json
 import os
+from collections.abc import Iterable
+
+from jsonschema import Draft202012Validator
+from jsonschema.exceptions import ValidationError
+
+from app.io._regular import read_regular
+
+MAX_BYTES = 8 << 20  # the largest scene the editor's saves make is far smaller; parsing costs ~20x this in memory
+MAX_DIGITS = 40  # an integer literal longer than this is no coordinate or count (and Python caps them at 4300)
+MAX_MAGNITUDE = 1e6  # world units and radians: far beyond any view, and float32 still resolves 1/8 of a unit
 
 
-def read_versioned(path: str | os.PathLike, fmt: str, version: int, error: type[Exception]) -> dict:
-    """The file's object, once it parsed and names `fmt` at `version`; otherwise `error` saying why."""
+class _Refused(ValueError):
+    """A literal the parser refuses (non-finite, too many digits)."""
+
+
+def _parse_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_DIGITS:
+        raise _Refused(f"an integer of {len(text)} digits")
+    return int(text)
+
+
+def _parse_float(text: str) -> float:
+    value = float(text)
+    if value in (float("inf"), float("-inf")):
+        raise _Refused(f"{text[:MAX_DIGITS]} is beyond the range of a float")
+    return value
+
+
+def _parse_constant(name: str):
+    raise _Refused(f"{name} is not a finite number")
+
+
+def read_versioned(path: str | os.PathLike, fmt: str, version: int, error: type[Exception],
+                   validator: Draft202012Validator) -> dict:
+    """The file's object, once it parsed, names `fmt` at `version` and passed `validator`; otherwise
+    `error` saying why (the path first)."""
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
+        raw = read_regular(path, MAX_BYTES)
     except OSError as exc:
         raise error(f"cannot read {path}: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+    try:
+        data = json.loads(raw.decode("utf-8"), parse_int=_parse_int, parse_float=_parse_float,
+                          parse_constant=_parse_constant)
+    except RecursionError:  # the C parser recurses once per bracket
+        raise error(f"{path} is not valid JSON: nested too deeply") from None
+    except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError and _Refused are ValueErrors
         raise error(f"{path} is not valid JSON: {exc}") from None
     if not isinstance(data, dict) or data.get("format") != fmt:
         raise error(f"{path} is not a {fmt} file")
     if data.get("version") != version:
-        raise error(f"{path}: unsupported version {data.get('version')!r} (this build reads {version})")
+        raise error(f"{path}: unsupported version {_short(data.get('version'))} (this build reads {version})")
+    problem = next(validator.iter_errors(data), None)  # the first in document order; more would only cost time
+    if problem is not None:
+        raise error(f"{path}: {where(problem.absolute_path)}: {_say(problem)}")
     return data
+
+
+# ---- schema pieces the formats share -------------------------------------------------------------
+
+
+def validator(properties: dict, required: Iterable[str] = ()) -> Draft202012Validator:
+    """A validator for a versioned file: `properties` besides format and version, nothing else."""
+    schema = obj({"format": {"type": "string"}, "version": {"type": "integer"}, **properties}, required)
+    Draft202012Validator.check_schema(schema)
+    return Draft202012Validator(schema)
+
+
+def obj(properties: dict, required: Iterable[str] = ()) -> dict:
+    return {"type": "object", "properties": properties, "required": list(required), "additionalProperties": False}
+
+
+def number(lo: float = -MAX_MAGNITUDE, hi: float = MAX_MAGNITUDE, above: float | None = None) -> dict:
+    """A number within lo..hi; `above` instead of lo when the bound itself is refused (a radius > 0)."""
+    low = {"minimum": lo} if above is None else {"exclusiveMinimum": above}
+    return {"type": "number", **low, "maximum": hi}
+
+
+def array(items: dict, at_most: int, at_least: int = 0, title: str | None = None) -> dict:
+    """A list of `items`; `title` names them in messages ("points")."""
+    return {"type": "array", "items": items, "minItems": at_least, "maxItems": at_most,
+            **({"title": title} if title else {})}
+
+
+def numbers(count: int, item: dict | None = None) -> dict:
+    return array(item or number(), count, count)
+
+
+def text(at_most: int) -> dict:
+    return {"type": "string", "minLength": 1, "maxLength": at_most}
+
+
+# ---- messages --------------------------------------------------------------------------------------
+
+_JSON_TYPES = {"object": "an object", "array": "a list", "string": "a string", "number": "a number",
+               "integer": "a whole number", "boolean": "true or false", "null": "null"}
+_NOUNS = {"number": "numbers", "integer": "whole numbers", "object": "objects", "array": "lists", "string": "strings"}
+
+
+def where(path: Iterable) -> str:
+    """['lights', 2, 'position'] -> 'lights[2].position' (the file itself: '(top level)')."""
+    out = ""
+    for key in path:
+        out += f"[{key}]" if isinstance(key, int) else f"{'.' if out else ''}{_short(key, quote=False)}"
+    return out or "(top level)"
+
+
+def _short(value, quote: bool = True, limit: int = 40) -> str:
+    """A value for a message, cut short: an attacker's key or string must not flood the console."""
+    text = repr(value) if quote else str(value)
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
+def _json_type(value) -> str:
+    for name, kinds in (("null", type(None)), ("boolean", bool), ("number", (int, float)), ("string", str),
+                        ("array", list), ("object", dict)):
+        if isinstance(value, kinds):
+            return name
+    return type(value).__name__
+
+
+def _say(problem: ValidationError) -> str:
+    kind, want, got, schema = problem.validator, problem.validator_value, problem.instance, problem.schema
+    if kind == "type":
+        wanted = " or ".join(_JSON_TYPES[t] for t in ([want] if isinstance(want, str) else want))
+        return f"expected {wanted}, got {_JSON_TYPES.get(_json_type(got), _json_type(got))}"
+    if kind in ("minItems", "maxItems"):
+        lo, hi = schema["minItems"], schema["maxItems"]
+        noun = schema.get("title") or _NOUNS.get(schema["items"].get("type"), "items")
+        count = str(lo) if lo == hi else (f"at most {hi}" if lo == 0 else f"{lo} to {hi}")
+        return f"expected {count} {noun}, got {len(got)}"
+    if kind in ("minimum", "maximum", "exclusiveMinimum"):
+        low = f"> {schema['exclusiveMinimum']:g} and <= " if "exclusiveMinimum" in schema else f"within {schema['minimum']:g}.."
+        return f"must be {low}{schema['maximum']:g}, got {_short(got)}"
+    if kind in ("minLength", "maxLength"):
+        return f"expected {schema['minLength']} to {schema['maxLength']} characters, got {len(got)}"
+    if kind == "additionalProperties":
+        extra = sorted(set(got) - set(schema["properties"]))
+        return f"unknown keys: {', '.join(_short(k, quote=False) for k in extra[:5])}"
+    if kind == "required":
+        return f"missing {', '.join(k for k in want if k not in got)}"
+    if kind == "enum":
+        return f"must be one of {', '.join(map(str, want))}, got {_short(got)}"
+    return _short(problem.message, quote=False, limit=200)
