@@ -147,3 +147,31 @@ def test_preamble_quotes_text_and_keeps_floats_exact(tmp_path):
     assert reg.cvars["greeting"].value == "hello world" and reg.cvars["cl_distanceScale"].value == 1.23456789
     assert fresh.digest() == e.digest()
     assert (fresh.volume_view.mode, fresh.volume_view.shadows, fresh.volume_view.light) == (3, False, (0.1, 0.2, 0.3))
+
+
+@pytest.mark.parametrize("line, needle", [
+    ("1e308 snow.clear", "time 1e308 must be within 0..86400 s"),
+    ("86400.5 snow.clear", "time 86400.5 must be within 0..86400 s"),
+    ("nan snow.clear", "time nan must be within"),
+    ("inf snow.clear", "time inf must be within"),
+])
+def test_a_demo_time_beyond_a_day_is_refused_at_parse_time(tmp_path, line, needle):
+    (tmp_path / "far.demo").write_text(f"shadelab-demo 1\n0 snow.clear\n{line}\n")
+    e = Editor(clock=VirtualClock())
+    before = e.digest()
+    assert not e.execute("play far") and not e.execute("timedemo far")
+    assert needle in errors(e)[-1]
+    assert e.digest() == before and not e.demos.playing
+
+
+@pytest.mark.parametrize("speed", ["1e-300", "0.01", "65", "1e308", "0", "-1"])
+def test_a_speed_outside_1_64th_to_64_is_refused(tmp_path, speed):
+    (tmp_path / "ok.demo").write_text("shadelab-demo 1\n0 snow.clear\n86400 snow.add 0 0\n")
+    e = Editor(clock=VirtualClock())
+    before = e.digest()
+    assert not e.execute(f"play ok {speed}")
+    assert "speed must be within 1/64..64" in errors(e)[-1]
+    assert e.digest() == before and not e.demos.playing
+    with pytest.raises(demo.DemoError, match="speed must be within"):
+        demo.Player(e.console, VirtualClock(), [], float(speed))
+    assert e.execute("play ok 0.015625") and e.demos.player.next_due() == 86400 * 64  # the slowest end

@@ -14,7 +14,6 @@ editor was in, so a demo replayed in a fresh editor ends in the recorded state.
 """
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +25,9 @@ from app.io.atomic import write_text
 
 MAGIC = "shadelab-demo"
 VERSION = 1
+# Bounds that keep every due time a host computes (start + time / speed) a number it can sleep until.
+MAX_TIME = 86_400.0  # seconds: a day
+MIN_SPEED, MAX_SPEED = 1 / 64, 64.0
 
 
 class Clock(Protocol):
@@ -78,8 +80,9 @@ def parse(text: str, source: str = "demo") -> list[Event]:
             t = float(stamp)
         except ValueError:
             raise DemoError(f"{source}:{number}: expected '<seconds> <command>', got {line!r}") from None
-        if not math.isfinite(t) or t < 0 or (events and t < events[-1].time):
-            raise DemoError(f"{source}:{number}: time {stamp} must be finite, >= 0 and not before the line above")
+        if not 0 <= t <= MAX_TIME or (events and t < events[-1].time):
+            raise DemoError(f"{source}:{number}: time {stamp} must be within 0..{MAX_TIME:g} s "
+                            "and not before the line above")
         if not command.strip():
             raise DemoError(f"{source}:{number}: no command after the time")
         events.append(Event(t, command.strip()))
@@ -139,13 +142,17 @@ class Recorder:
         return len(self.events)
 
 
+def check_speed(speed: float) -> None:
+    if not MIN_SPEED <= speed <= MAX_SPEED:
+        raise DemoError(f"speed must be within 1/{1 / MIN_SPEED:g}..{MAX_SPEED:g}, got {speed:g}")
+
+
 class Player:
     """Runs a demo's commands when the clock reaches their times (scaled by speed); pausable."""
 
     def __init__(self, console: Console, clock: Clock, events: list[Event], speed: float = 1.0,
                  on_done: Callable[[], None] = lambda: None) -> None:
-        if not (math.isfinite(speed) and speed > 0):
-            raise DemoError(f"speed must be > 0, got {speed}")
+        check_speed(speed)
         self.console, self.clock, self.events, self.speed = console, clock, events, speed
         self.on_done = on_done
         self.index = 0

@@ -91,8 +91,7 @@ class Demos:
         def play(name: str, speed: float = 1.0) -> None:
             if self.player is not None:
                 raise CommandError("a demo is already playing; stop it first")
-            if speed <= 0:
-                raise CommandError(f"speed must be > 0, got {speed:g}")
+            demo.check_speed(speed)  # before reading the file: a refused speed needs no file
             events = self._load(name)
             self.player = demo.Player(self.console, self.clock, events, speed, on_done=self._finished)
             self.console.print(f"playing {_demo_path(name)}: {len(events)} commands, "
