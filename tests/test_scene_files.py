@@ -129,3 +129,19 @@ def test_the_loaders_raise_their_own_errors_not_internal_ones(tmp_path):
 def test_every_sample_scene_still_passes_the_schema():
     for path in SCENES.glob("*.json"):
         scene2d.load(path)
+
+
+def test_commands_stop_at_the_counts_a_scene_file_holds_so_a_save_always_loads(editor, tmp_path):
+    assert editor.execute("workspace lighting2d; lighting.clear")
+    for i in range(scene2d.MAX_LIGHTS):
+        assert editor.execute(f"light.add point {i} 0")
+    assert not editor.execute("light.add point 0 0")
+    assert "a scene holds at most 256 of them" in editor.console.log[-1].text
+    assert editor.execute("workspace snowflake; snow.clear")
+    for i in range(snowflake_scene.MAX_FLAKES):
+        assert editor.execute(f"snow.add {i} 0 0.5")
+    assert not editor.execute("snow.add 0 0")
+    for workspace in ("lighting2d", "snowflake"):
+        assert editor.execute(f"workspace {workspace}; scene.save {tmp_path / workspace}.json")
+        saved = editor.digest()
+        assert editor.execute(f"scene.load {tmp_path / workspace}.json") and editor.digest() == saved

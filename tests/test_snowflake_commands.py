@@ -40,6 +40,8 @@ def test_edit_commands(editor):
     ("snow.move 99 0 0", "no flake 99"),
     ("snow.remove -1", "no flake -1"),
     ("snow.view 0 0 0", "height must be > 0"),
+    ("snow.add 2e6 0", "within -1e+06..1e+06"),
+    ("snow.move 0 0 -1e300", "within -1e+06..1e+06"),
     ("workspace nowhere", "no workspace"),
     ("workspace clouds", "not built yet"),
 ])

@@ -12,6 +12,7 @@ import numpy as np
 
 from app.console.registry import CommandError, Cvar
 from app.io import scene2d as scene_file
+from app.io.json_file import storable
 from app.io.textures2d import image
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D
 from app.model.lighting2d_history import History2D
@@ -57,7 +58,10 @@ def _parse_light_value(key: str, values: list[str]):
         if key in LIGHT_WORDS:
             return None if key == "texture" and values[0] == "none" else values[0]
         if key == "ignored_hulls":
-            return () if values == ["none"] else tuple(int(v) for v in values)
+            hulls = () if values == ["none"] else tuple(int(v) for v in values)
+            if not all(0 <= i < scene_file.MAX_HULLS for i in hulls):
+                raise CommandError(f"light ignored_hulls must be hull numbers 0..{scene_file.MAX_HULLS - 1}")
+            return hulls
     except ValueError:
         raise CommandError(f"light {key}: cannot read {' '.join(values)!r}") from None
     fields = sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS | {"ignored_hulls"})
@@ -127,7 +131,9 @@ def register(editor: "Editor") -> None:
         except Lighting2DError as exc:
             raise refused(exc) from None
 
-    def append(items: list, item) -> int:
+    def append(items: list, item, limit: int) -> int:
+        if len(items) >= limit:
+            raise CommandError(f"a scene holds at most {limit} of them")
         edit()
         items.append(item)
         scene().touch()
@@ -219,6 +225,7 @@ def register(editor: "Editor") -> None:
     def view_values(cx: float, cy: float, height: float) -> tuple[float, float, float]:
         if not (math.isfinite(cx) and math.isfinite(cy) and math.isfinite(height)) or height <= 0:
             raise CommandError(f"the view needs a finite centre and a height > 0, got {cx:g} {cy:g} {height:g}")
+        storable("the view", cx, cy, height)
         return cx, cy, height
 
     @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
@@ -236,13 +243,14 @@ def register(editor: "Editor") -> None:
             texture = texture or "builtin:window"
             _check_image(texture)
             extra["radius"] = 5.0
+        storable("the light position", x, y)
         return make(Light, kind=kind, position=(x, y), texture=texture, **extra)
 
     @reg.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
                  completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)])
     def light_add(*args) -> None:
         light = new_light(*args)
-        index = append(scene().lights, light)
+        index = append(scene().lights, light, scene_file.MAX_LIGHTS)
         console.print(f"light {index}: {light.kind} at ({light.position[0]:g}, {light.position[1]:g})")
 
     @checks.add("light.set", "lighting2d")
@@ -252,6 +260,8 @@ def register(editor: "Editor") -> None:
         value = _parse_light_value(key, values)
         if key == "texture" and value:
             _check_image(value)
+        if key in LIGHT_TUPLES | LIGHT_FLOATS:
+            storable(f"light {key}", *(value if isinstance(value, tuple) else (value,)))
         try:
             return light, dataclasses.replace(light, **{key: value})
         except Lighting2DError as exc:
@@ -296,6 +306,13 @@ def register(editor: "Editor") -> None:
             raise CommandError("give points as x1 y1 [x2 y2 ...]")
         return np.array(values, dtype=np.float64).reshape(-1, 2)
 
+    def checked_hull(points: np.ndarray) -> Hull:
+        """A hull through `points`, refused if non-finite, or more or larger than a scene file holds."""
+        if len(points) > scene_file.MAX_HULL_POINTS:
+            raise CommandError(f"a hull has at most {scene_file.MAX_HULL_POINTS} points, got {len(points)}")
+        storable("hull points", *points.ravel().tolist())
+        return make(Hull, points=points)
+
     def report(index: int) -> None:
         hull = scene().hulls[index]
         if not hull.valid:
@@ -303,11 +320,11 @@ def register(editor: "Editor") -> None:
 
     @checks.add("hull.add")
     def new_hull(values: list[float]) -> Hull:
-        return make(Hull, points=coords(values))
+        return checked_hull(coords(values))
 
     @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
     def hull_add(values: list[float]) -> None:
-        index = append(scene().hulls, new_hull(values))
+        index = append(scene().hulls, new_hull(values), scene_file.MAX_HULLS)
         console.print(f"hull {index}: {len(scene().hulls[index].points)} points")
         report(index)
 
@@ -328,6 +345,7 @@ def register(editor: "Editor") -> None:
             raise CommandError(f"hull {key}: cannot read {' '.join(values)!r}") from None
         if len(numbers) != (1 if key == "rotation" else 2):
             raise CommandError(f"hull {key} takes {1 if key == 'rotation' else 2} numbers")
+        storable(f"hull {key}", *numbers)
         value = numbers[0] if key == "rotation" else tuple(numbers)
         make(Hull, points=hull.points, **transform(hull, **{key: value}))  # the model's refusal, nothing changed
         return hull, value
@@ -354,7 +372,7 @@ def register(editor: "Editor") -> None:
 
     def valid_points(index: int, points: np.ndarray) -> np.ndarray:
         hull_at(index)
-        make(Hull, points=points)  # refuse non-finite input before anything changes
+        checked_hull(points)  # refuse before anything changes
         return points
 
     def set_points(index: int, points: np.ndarray, key) -> None:
@@ -427,6 +445,8 @@ def register(editor: "Editor") -> None:
 
 
 def _check_image(name: str) -> None:
+    if len(name) > scene_file.MAX_IMAGE_NAME:
+        raise CommandError(f"an image name has at most {scene_file.MAX_IMAGE_NAME} characters")
     try:
         image(name)
     except Lighting2DError as exc:

@@ -4,6 +4,8 @@ from __future__ import annotations
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError
+from app.io.json_file import storable
+from app.io.snowflake_scene import MAX_FLAKES
 from app.model.camera2d import Camera2D
 from app.model.snowflake import MAX_LEVEL, Flake, SnowflakeScene
 
@@ -33,9 +35,12 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D, checks: 
         """The flake `index` (moved to `position` if given) or a refusal."""
         if not 0 <= index < len(scene.flakes):
             raise CommandError(f"no flake {index} (there are {len(scene.flakes)})")
-        return Flake(*position, scene.flakes[index].radius) if position else scene.flakes[index]
+        return new_flake(*position, scene.flakes[index].radius) if position else scene.flakes[index]
 
-    checks.add("snow.add")(lambda x, y, radius=DEFAULT_RADIUS: Flake(x, y, radius))
+    @checks.add("snow.add")
+    def new_flake(x: float, y: float, radius: float = DEFAULT_RADIUS) -> Flake:
+        storable("a flake's centre and radius", x, y, radius)
+        return Flake(x, y, radius)
 
     @reg.command("snow.level", "[level:float]", f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)")
     def level(value: float | None = None) -> None:
@@ -52,6 +57,9 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D, checks: 
 
     @reg.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)")
     def add(x: float, y: float, radius: float = DEFAULT_RADIUS) -> None:
+        new_flake(x, y, radius)
+        if len(scene.flakes) >= MAX_FLAKES:
+            raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
         console.print(f"flake {scene.add(x, y, radius)} at ({x:g}, {y:g})")
 
     @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)

@@ -36,6 +36,12 @@ def _parse_constant(name: str):
     raise _Refused(f"{name} is not a finite number")
 
 
+def storable(what: str, *values: float) -> None:
+    """Refuse numbers no scene file holds, so that whatever a command makes, a save loads again."""
+    if any(abs(v) > MAX_MAGNITUDE for v in values):
+        raise ValueError(f"{what} must be within -{MAX_MAGNITUDE:g}..{MAX_MAGNITUDE:g}")
+
+
 Validator = Callable[[dict], dict]
 
 
