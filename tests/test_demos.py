@@ -15,6 +15,16 @@ def errors(editor):
     return [line.text for line in editor.console.log if line.level == "error"]
 
 
+def refused(tmp_path, text: str) -> str:
+    """`text` as a demo is refused by play and timedemo before anything runs; the last error says why."""
+    (tmp_path / "bad.demo").write_text(text)
+    e = Editor(clock=VirtualClock())
+    before = e.digest()
+    assert not e.execute("play bad") and not e.execute("timedemo bad")
+    assert e.digest() == before and not e.demos.playing
+    return errors(e)[-1]
+
+
 def record_session(clock):
     """A session touching cvars and the model, mid-way through a changed state."""
     e = Editor(clock=clock)
@@ -95,12 +105,7 @@ def test_timedemo_runs_everything_now_and_prints_fps():
     ("shadelab-demo 1\n0 snow.clear\n0.5 cl_steps lots\n", "takes a int"),
 ])
 def test_malformed_demo_is_refused_and_nothing_is_applied(tmp_path, text, needle):
-    (tmp_path / "bad.demo").write_text(text)
-    e = Editor(clock=VirtualClock())
-    before = e.digest()
-    assert not e.execute("play bad")
-    assert needle in errors(e)[-1]
-    assert e.digest() == before and not e.demos.playing
+    assert needle in refused(tmp_path, text)
 
 
 def test_truncated_demo_is_refused(tmp_path):
@@ -156,12 +161,7 @@ def test_preamble_quotes_text_and_keeps_floats_exact(tmp_path):
     ("inf snow.clear", "time inf must be within"),
 ])
 def test_a_demo_time_beyond_a_day_is_refused_at_parse_time(tmp_path, line, needle):
-    (tmp_path / "far.demo").write_text(f"shadelab-demo 1\n0 snow.clear\n{line}\n")
-    e = Editor(clock=VirtualClock())
-    before = e.digest()
-    assert not e.execute("play far") and not e.execute("timedemo far")
-    assert needle in errors(e)[-1]
-    assert e.digest() == before and not e.demos.playing
+    assert needle in refused(tmp_path, f"shadelab-demo 1\n0 snow.clear\n{line}\n")
 
 
 @pytest.mark.parametrize("speed", ["1e-300", "0.01", "65", "1e308", "0", "-1"])
@@ -195,12 +195,8 @@ def test_a_speed_outside_1_64th_to_64_is_refused(tmp_path, speed):
     ("orbit 0 90", "pitch must be within"),
 ])
 def test_a_value_the_model_would_refuse_refuses_the_demo_before_anything_runs(tmp_path, line, needle):
-    (tmp_path / "bad.demo").write_text(f"shadelab-demo 1\n0 snow.level 3\n0 cl_steps 300\n0.5 {line}\n1 snow.add 0 0\n")
-    e = Editor(clock=VirtualClock())
-    before = e.digest()
-    assert not e.execute("play bad") and not e.execute("timedemo bad")
-    assert f"bad.demo: at 0.500 s: {line!r}: " in errors(e)[-1] and needle in errors(e)[-1], errors(e)[-1]
-    assert e.digest() == before and not e.demos.playing
+    error = refused(tmp_path, f"shadelab-demo 1\n0 snow.level 3\n0 cl_steps 300\n0.5 {line}\n1 snow.add 0 0\n")
+    assert f"bad.demo: at 0.500 s: {line!r}: " in error and needle in error, error
 
 
 def test_checks_of_a_shape_the_demo_changed_are_left_to_playback_which_stops_at_the_first_failure(tmp_path):
