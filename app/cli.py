@@ -122,6 +122,14 @@ def run_exec(argv: list[str]) -> int:
     quit_requested = []
     editor.console.quit_listeners.append(lambda: quit_requested.append(True))
     editor.demos.frame = HeadlessFrame(editor)
+    try:
+        _exec_items(editor, clock, items, quit_requested)
+    finally:  # whatever happened, a recording in progress is saved
+        editor.demos.stop_all()
+    return 1 if errors else 0
+
+
+def _exec_items(editor, clock, items: list[tuple[str, str]], quit_requested: list) -> None:
     runners = {".cfg": "exec", ".lua": "lua", ".demo": "play"}
     for kind, value in items:
         if kind == "cmd":
@@ -138,8 +146,6 @@ def run_exec(argv: list[str]) -> int:
             editor.console.frame()
         if quit_requested:
             break
-    editor.demos.stop_all()
-    return 1 if errors else 0
 
 
 class HeadlessFrame:

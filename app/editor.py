@@ -51,7 +51,7 @@ class Editor:
         self.lua = builtins.register(self.console, self.binds)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.state_commands, frame)
         core.register(self)
-        snowflake_commands.register(self.console, self.snowflake, self.snowflake_camera)
+        snowflake_commands.register(self.console, self.snowflake, self.snowflake_camera, self.demos.arg_checks)
         volume_commands.register(self)
         lighting_commands.register(self)
         if configs:

@@ -55,6 +55,15 @@ def test_lights_and_hulls_are_edited_by_commands(editor):
     ("lighting.view 0 0 0", "height > 0"),
     ("r_shadowMethod magic", "r_shadowMethod must be one of"),
     ("lighting.sample nowhere", "no sample scene"),
+    # what no scene file holds (app/io/scene2d.py), so every scene made by commands saves and loads again
+    ("light.add point 2e6 0", "light position must be within -1e+06..1e+06"),
+    ("light.set 0 scale 1e7 1", "light scale must be within -1e+06..1e+06"),
+    ("light.set 0 ignored_hulls 4096", "hull numbers 0..4095"),
+    ("hull.add 0 0 1e300 0 0 1", "hull points must be within -1e+06..1e+06"),
+    ("hull.vertex 0 1 0 -1e9", "hull points must be within -1e+06..1e+06"),
+    ("hull.set 0 rotation 1e12", "hull rotation must be within -1e+06..1e+06"),
+    ("lighting.view 0 0 1e7", "the view must be within -1e+06..1e+06"),
+    ("lighting.background " + "x" * 1025, "at most 1024 characters"),
 ])
 def test_bad_arguments_are_refused_and_change_nothing(editor, line, needle):
     editor.execute("light.add point 0 0; hull.add 0 0 10 0 10 10")

@@ -94,10 +94,10 @@ def test_scene_round_trip(tmp_path):
 @pytest.mark.parametrize("data, needle", [
     ({"format": "other", "version": 1}, "not a shadelab.lighting2d file"),
     ({"format": "shadelab.lighting2d", "version": 2}, "unsupported version 2"),
-    ({"format": "shadelab.lighting2d", "version": 1, "lights": [{"radius": -3}]}, "light 0: light radius"),
+    ({"format": "shadelab.lighting2d", "version": 1, "lights": [{"radius": -3}]}, r"lights\[0\]: light radius"),
     ({"format": "shadelab.lighting2d", "version": 1, "lights": [{"brightness": 3}]}, "unknown keys: brightness"),
     ({"format": "shadelab.lighting2d", "version": 1, "hulls": [{"points": [[0, 0], ["a", 1], [1, 1]]}]},
-     "hull 0"),
+     r"hulls\[0\]\.points\[1\]\[0\]: expected a number, got a string"),
     ({"format": "shadelab.lighting2d", "version": 1, "ambient": [2, 0, 0]}, "within 0..1"),
 ])
 def test_malformed_scene_files_are_refused(tmp_path, data, needle):

@@ -40,6 +40,8 @@ def test_edit_commands(editor):
     ("snow.move 99 0 0", "no flake 99"),
     ("snow.remove -1", "no flake -1"),
     ("snow.view 0 0 0", "height must be > 0"),
+    ("snow.add 2e6 0", "within -1e+06..1e+06"),
+    ("snow.move 0 0 -1e300", "within -1e+06..1e+06"),
     ("workspace nowhere", "no workspace"),
     ("workspace clouds", "not built yet"),
 ])
@@ -75,10 +77,10 @@ def test_scene_round_trip(editor, tmp_path):
     ("{not json", "not valid JSON"),
     ('{"format": "other", "version": 1, "flakes": []}', "not a shadelab.snowflake file"),
     ('{"format": "shadelab.snowflake", "version": 9, "flakes": []}', "unsupported version 9"),
-    ('{"format": "shadelab.snowflake", "version": 1, "level": 12, "flakes": []}', "level must be"),
-    ('{"format": "shadelab.snowflake", "version": 1, "flakes": {}}', "'flakes' must be a list"),
-    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0}, {"x": 1}]}', "flake 1 is invalid"),
-    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0, "radius": -2}]}', "radius must be > 0"),
+    ('{"format": "shadelab.snowflake", "version": 1, "level": 12, "flakes": []}', "level: must be within 0..8, got 12"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": {}}', "flakes: expected a list, got an object"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0}, {"x": 1}]}', "flakes[1]: missing y"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0, "radius": -2}]}', "flakes[0].radius: must be > 0"),
 ])
 def test_malformed_scene_refused_before_the_model_is_touched(editor, tmp_path, content, needle):
     path = tmp_path / "bad.json"

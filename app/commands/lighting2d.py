@@ -12,6 +12,7 @@ import numpy as np
 
 from app.console.registry import CommandError, Cvar
 from app.io import scene2d as scene_file
+from app.io.json_file import storable
 from app.io.textures2d import image
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D
 from app.model.lighting2d_history import History2D
@@ -57,7 +58,10 @@ def _parse_light_value(key: str, values: list[str]):
         if key in LIGHT_WORDS:
             return None if key == "texture" and values[0] == "none" else values[0]
         if key == "ignored_hulls":
-            return () if values == ["none"] else tuple(int(v) for v in values)
+            hulls = () if values == ["none"] else tuple(int(v) for v in values)
+            if not all(0 <= i < scene_file.MAX_HULLS for i in hulls):
+                raise CommandError(f"light ignored_hulls must be hull numbers 0..{scene_file.MAX_HULLS - 1}")
+            return hulls
     except ValueError:
         raise CommandError(f"light {key}: cannot read {' '.join(values)!r}") from None
     fields = sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS | {"ignored_hulls"})
@@ -89,17 +93,25 @@ def state_commands(editor: "Editor") -> list[str]:
 def register(editor: "Editor") -> None:
     console = editor.console
     reg = console.registry
+    checks = editor.demos.arg_checks
+    # Index checks read the light and hull counts, a light.set check the light's other properties (a
+    # texture for kind textured): after any of these a demo's checker cannot know them.
+    checks.reshaped_by("lighting2d", "light.add", "light.remove", "light.set", "hull.add", "hull.remove",
+                       "hull.points", "hull.insert", "hull.delete", "lighting.clear", "lighting.sample",
+                       "scene.load", "undo", "redo")
     history = editor.lighting_history = History2D(editor.lighting)
     editor.histories["lighting2d"] = (history.undo, history.redo)
 
     def scene() -> Scene2D:
         return editor.lighting
 
+    @checks.add("light.remove", "lighting2d")
     def light_at(index: int) -> Light:
         if not 0 <= index < len(scene().lights):
             raise CommandError(f"no light {index}; there are {len(scene().lights)}")
         return scene().lights[index]
 
+    @checks.add("hull.remove", "lighting2d")
     def hull_at(index: int) -> Hull:
         if not 0 <= index < len(scene().hulls):
             raise CommandError(f"no hull {index}; there are {len(scene().hulls)}")
@@ -119,18 +131,21 @@ def register(editor: "Editor") -> None:
         except Lighting2DError as exc:
             raise refused(exc) from None
 
-    def append(items: list, item) -> int:
+    def append(items: list, item, limit: int) -> int:
+        if len(items) >= limit:
+            raise CommandError(f"a scene holds at most {limit} of them")
         edit()
         items.append(item)
         scene().touch()
         return len(items) - 1
 
-    def method_changed(cvar: Cvar) -> None:
-        if cvar.value not in METHODS:
-            raise CommandError(f"r_shadowMethod must be one of {', '.join(METHODS)}, got {cvar.value!r}")
+    @checks.add("r_shadowMethod")
+    def method(value: str) -> None:
+        if value not in METHODS:
+            raise CommandError(f"r_shadowMethod must be one of {', '.join(METHODS)}, got {value!r}")
 
     reg.add_cvar(Cvar("r_shadowMethod", str, "exact", "2D soft shadows: " + ", ".join(METHODS), archive=True,
-                      on_change=[method_changed]))
+                      on_change=[lambda cvar: method(cvar.value)]))
     reg.add_cvar(Cvar("r_shadowSamples", int, 16, "jitter: hard shadows averaged", min=1, max=64, archive=True))
     reg.add_cvar(Cvar("r_shadowBlur", float, 0.25, "blur: Gaussian sigma as a share of the light radius",
                       min=0.01, max=4.0, archive=True))
@@ -149,13 +164,17 @@ def register(editor: "Editor") -> None:
         scene().hulls.clear()
         scene().touch()
 
-    @reg.command("lighting.sample", "name", "Load a sample 2D scene: " + ", ".join(sample_names()),
-                 completer=lambda p: [n for n in sample_names() if n.startswith(p)])
-    def sample(name: str) -> None:
+    @checks.add("lighting.sample")
+    def sample_path(name: str) -> Path:
         path = SCENES / f"{name}.json"
         if not path.is_file():
             raise CommandError(f"no sample scene {name!r}; there are {', '.join(sample_names())}")
-        load(path)
+        return path
+
+    @reg.command("lighting.sample", "name", "Load a sample 2D scene: " + ", ".join(sample_names()),
+                 completer=lambda p: [n for n in sample_names() if n.startswith(p)])
+    def sample(name: str) -> None:
+        load(sample_path(name))
 
     def load(path) -> None:
         try:
@@ -173,15 +192,19 @@ def register(editor: "Editor") -> None:
 
     editor.scene_files["lighting2d"] = (load, save)
 
+    @checks.add("ambient")
+    def ambient_value(r: float, g: float, b: float) -> tuple[float, float, float]:
+        return make(Scene2D, ambient=(r, g, b)).ambient
+
     @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)")
-    def ambient(r: float, g: float, b: float) -> None:
-        try:
-            value = Scene2D(ambient=(r, g, b)).ambient
-        except Lighting2DError as exc:
-            raise refused(exc) from None
+    def ambient(*rgb: float) -> None:
+        value = ambient_value(*rgb)
         edit()
         scene().ambient = value
         scene().touch()
+
+    checks.add("lighting.background")(_check_image)
+    checks.add("lighting.normalmap")(lambda name: name == "none" or _check_image(name))
 
     @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path")
     def background(name: str) -> None:
@@ -198,44 +221,64 @@ def register(editor: "Editor") -> None:
         scene().normal_map = None if name == "none" else name
         scene().touch()
 
-    @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
-                 quiet=True)
-    def view(cx: float, cy: float, height: float) -> None:
+    @checks.add("lighting.view")
+    def view_values(cx: float, cy: float, height: float) -> tuple[float, float, float]:
         if not (math.isfinite(cx) and math.isfinite(cy) and math.isfinite(height)) or height <= 0:
             raise CommandError(f"the view needs a finite centre and a height > 0, got {cx:g} {cy:g} {height:g}")
+        storable("the view", cx, cy, height)
+        return cx, cy, height
+
+    @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
+                 quiet=True)
+    def view(*values: float) -> None:
         cam = editor.lighting_camera
-        cam.cx, cam.cy, cam.height = cx, cy, height
+        cam.cx, cam.cy, cam.height = view_values(*values)
 
     # ---- lights ------------------------------------------------------------------------------------
 
-    @reg.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
-                 completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)])
-    def light_add(kind: str, x: float, y: float, texture: str | None = None) -> None:
+    @checks.add("light.add")
+    def new_light(kind: str, x: float, y: float, texture: str | None = None) -> Light:
         extra = {"origin": (0.0, 0.5), "scale": (300.0, 200.0)} if kind == "spot" else {}
         if kind == "textured":
             texture = texture or "builtin:window"
             _check_image(texture)
             extra["radius"] = 5.0
-        index = append(scene().lights, make(Light, kind=kind, position=(x, y), texture=texture, **extra))
-        console.print(f"light {index}: {kind} at ({x:g}, {y:g})")
+        storable("the light position", x, y)
+        return make(Light, kind=kind, position=(x, y), texture=texture, **extra)
+
+    @reg.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
+                 completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)])
+    def light_add(*args) -> None:
+        light = new_light(*args)
+        index = append(scene().lights, light, scene_file.MAX_LIGHTS)
+        console.print(f"light {index}: {light.kind} at ({light.position[0]:g}, {light.position[1]:g})")
+
+    @checks.add("light.set", "lighting2d")
+    def light_change(index: int, key: str, values: list[str]) -> tuple[Light, Light]:
+        """Light `index` and the light it would become."""
+        light = light_at(index)
+        value = _parse_light_value(key, values)
+        if key == "texture" and value:
+            _check_image(value)
+        if key in LIGHT_TUPLES | LIGHT_FLOATS:
+            storable(f"light {key}", *(value if isinstance(value, tuple) else (value,)))
+        try:
+            return light, dataclasses.replace(light, **{key: value})
+        except Lighting2DError as exc:
+            raise refused(exc) from None
 
     @reg.command("light.set", "index:int property values...", "Set a light's property (light.list shows them)",
                  completer=lambda p: [k for k in sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS
                                                          | {"ignored_hulls"}) if k.startswith(p)])
     def light_set(index: int, key: str, values: list[str]) -> None:
-        light = light_at(index)
-        value = _parse_light_value(key, values)
-        if key == "texture" and value:
-            _check_image(value)
-        try:
-            changed = dataclasses.replace(light, **{key: value})
-        except Lighting2DError as exc:
-            raise refused(exc) from None
+        light, changed = light_change(index, key, values)
         if changed == light:
             return
         edit(("light.set", index, key))
         scene().lights[index] = changed
         scene().touch()
+
+    checks.add("light.move", "lighting2d")(lambda index, x, y: light_change(index, "position", [repr(x), repr(y)]))
 
     @reg.command("light.move", "index:int x:float y:float", "Move a light's centre (a drag is one undo step)",
                  quiet=True)
@@ -263,91 +306,124 @@ def register(editor: "Editor") -> None:
             raise CommandError("give points as x1 y1 [x2 y2 ...]")
         return np.array(values, dtype=np.float64).reshape(-1, 2)
 
+    def checked_hull(points: np.ndarray) -> Hull:
+        """A hull through `points`, refused if non-finite, or more or larger than a scene file holds."""
+        if len(points) > scene_file.MAX_HULL_POINTS:
+            raise CommandError(f"a hull has at most {scene_file.MAX_HULL_POINTS} points, got {len(points)}")
+        storable("hull points", *points.ravel().tolist())
+        return make(Hull, points=points)
+
     def report(index: int) -> None:
         hull = scene().hulls[index]
         if not hull.valid:
             console.print(f"hull {index} is invalid and ignored: {hull.invalid_reason}")
 
+    @checks.add("hull.add")
+    def new_hull(values: list[float]) -> Hull:
+        return checked_hull(coords(values))
+
     @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
     def hull_add(values: list[float]) -> None:
-        index = append(scene().hulls, make(Hull, points=coords(values)))
+        index = append(scene().hulls, new_hull(values), scene_file.MAX_HULLS)
         console.print(f"hull {index}: {len(scene().hulls[index].points)} points")
         report(index)
+
+    def transform(hull: Hull, **change) -> dict:
+        return {**{k: getattr(hull, k) for k in ("position", "origin", "rotation", "scale")}, **change}
+
+    @checks.add("hull.set", "lighting2d")
+    def hull_value(index: int, key: str, values: list[str]) -> tuple[Hull, object]:
+        """Hull `index` and the value its property `key` would take."""
+        hull = hull_at(index)
+        if key not in HULL_KEYS:
+            raise CommandError(f"hulls have no property {key!r}; there are {', '.join(HULL_KEYS)}")
+        if key == "enabled":
+            return hull, values == ["1"] or values == ["true"] or values == ["on"]
+        try:
+            numbers = [float(v) for v in values]
+        except ValueError:
+            raise CommandError(f"hull {key}: cannot read {' '.join(values)!r}") from None
+        if len(numbers) != (1 if key == "rotation" else 2):
+            raise CommandError(f"hull {key} takes {1 if key == 'rotation' else 2} numbers")
+        storable(f"hull {key}", *numbers)
+        value = numbers[0] if key == "rotation" else tuple(numbers)
+        make(Hull, points=hull.points, **transform(hull, **{key: value}))  # the model's refusal, nothing changed
+        return hull, value
 
     @reg.command("hull.set", "index:int property values...", "Set a hull's position, origin, rotation, scale or enabled",
                  completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)])
     def hull_set(index: int, key: str, values: list[str]) -> None:
-        hull = hull_at(index)
-        if key not in HULL_KEYS:
-            raise CommandError(f"hulls have no property {key!r}; there are {', '.join(HULL_KEYS)}")
-        try:
-            if key == "enabled":
-                value = values == ["1"] or values == ["true"] or values == ["on"]
-            else:
-                numbers = [float(v) for v in values]
-                if len(numbers) != (1 if key == "rotation" else 2):
-                    raise CommandError(f"hull {key} takes {1 if key == 'rotation' else 2} numbers")
-                value = numbers[0] if key == "rotation" else tuple(numbers)
-        except ValueError:
-            raise CommandError(f"hull {key}: cannot read {' '.join(values)!r}") from None
+        hull, value = hull_value(index, key, values)
         if getattr(hull, key) == value:
             return
-        transform = {k: getattr(hull, k) for k in ("position", "origin", "rotation", "scale")}
-        if key != "enabled":
-            transform[key] = value
-            try:
-                Hull(hull.points, **transform)  # validate before anything changes
-            except Lighting2DError as exc:
-                raise refused(exc) from None
         edit(("hull.set", index, key))
         if key == "enabled":
             hull.enabled = value
         else:
-            hull.set_transform(**transform)
+            hull.set_transform(**transform(hull, **{key: value}))
         scene().touch()
+
+    checks.add("hull.move", "lighting2d")(lambda index, x, y: hull_value(index, "position", [repr(x), repr(y)]))
 
     @reg.command("hull.move", "index:int x:float y:float", "Move a hull's position (a drag is one undo step)",
                  quiet=True)
     def hull_move(index: int, x: float, y: float) -> None:
         hull_set(index, "position", [repr(x), repr(y)])
 
+    def valid_points(index: int, points: np.ndarray) -> np.ndarray:
+        hull_at(index)
+        checked_hull(points)  # refuse before anything changes
+        return points
+
     def set_points(index: int, points: np.ndarray, key) -> None:
-        hull = hull_at(index)
-        try:
-            Hull(points)  # refuse non-finite input before anything changes
-        except Lighting2DError as exc:
-            raise refused(exc) from None
         edit(key)
-        hull.set_points(points)
+        hull_at(index).set_points(points)
         scene().touch()
         report(index)
 
+    @checks.add("hull.points", "lighting2d")
+    def replaced_points(index: int, values: list[float]) -> np.ndarray:
+        return valid_points(index, coords(values))
+
     @reg.command("hull.points", "index:int coords:float...", "Replace a hull's local points")
     def hull_points(index: int, values: list[float]) -> None:
-        set_points(index, coords(values), None)
+        set_points(index, replaced_points(index, values), None)
+
+    def vertex_at(index: int, vertex: int) -> np.ndarray:
+        points = hull_at(index).points
+        if not 0 <= vertex < len(points):
+            raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
+        return points
+
+    @checks.add("hull.vertex", "lighting2d")
+    def moved_vertex(index: int, vertex: int, x: float, y: float) -> np.ndarray:
+        points = vertex_at(index, vertex).copy()
+        points[vertex] = (x, y)
+        return valid_points(index, points)
 
     @reg.command("hull.vertex", "index:int vertex:int x:float y:float", "Move one vertex (local coordinates)",
                  quiet=True)
     def hull_vertex(index: int, vertex: int, x: float, y: float) -> None:
-        points = hull_at(index).points.copy()
-        if not 0 <= vertex < len(points):
-            raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
-        points[vertex] = (x, y)
-        set_points(index, points, ("hull.vertex", index, vertex))
+        set_points(index, moved_vertex(index, vertex, x, y), ("hull.vertex", index, vertex))
 
-    @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)")
-    def hull_insert(index: int, vertex: int, x: float, y: float) -> None:
+    @checks.add("hull.insert", "lighting2d")
+    def inserted_vertex(index: int, vertex: int, x: float, y: float) -> np.ndarray:
         points = hull_at(index).points
         if not 0 <= vertex <= len(points):
             raise CommandError(f"hull {index}: insert position must be 0..{len(points)}, got {vertex}")
-        set_points(index, np.insert(points, vertex, (x, y), axis=0), None)
+        return valid_points(index, np.insert(points, vertex, (x, y), axis=0))
+
+    @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)")
+    def hull_insert(*args) -> None:
+        set_points(args[0], inserted_vertex(*args), None)
+
+    @checks.add("hull.delete", "lighting2d")
+    def deleted_vertex(index: int, vertex: int) -> np.ndarray:
+        return valid_points(index, np.delete(vertex_at(index, vertex), vertex, axis=0))
 
     @reg.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull")
     def hull_delete(index: int, vertex: int) -> None:
-        points = hull_at(index).points
-        if not 0 <= vertex < len(points):
-            raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
-        set_points(index, np.delete(points, vertex, axis=0), None)
+        set_points(index, deleted_vertex(index, vertex), None)
 
     @reg.command("hull.remove", "index:int", "Remove a hull")
     def hull_remove(index: int) -> None:
@@ -369,6 +445,8 @@ def register(editor: "Editor") -> None:
 
 
 def _check_image(name: str) -> None:
+    if len(name) > scene_file.MAX_IMAGE_NAME:
+        raise CommandError(f"an image name has at most {scene_file.MAX_IMAGE_NAME} characters")
     try:
         image(name)
     except Lighting2DError as exc:

@@ -2,9 +2,12 @@
 from __future__ import annotations
 
 from app.console.console import Console
+from app.console.demo import ArgChecks
 from app.console.registry import CommandError
+from app.io.json_file import storable
+from app.io.snowflake_scene import MAX_FLAKES
 from app.model.camera2d import Camera2D
-from app.model.snowflake import MAX_LEVEL, SnowflakeScene
+from app.model.snowflake import MAX_LEVEL, Flake, SnowflakeScene
 
 DEFAULT_RADIUS = 0.3
 
@@ -15,12 +18,33 @@ def state_commands(scene: SnowflakeScene, camera: Camera2D) -> list[str]:
             f"snow.level {scene.level!r}", f"snow.view {camera.cx!r} {camera.cy!r} {camera.height!r}"]
 
 
-def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
+def register(console: Console, scene: SnowflakeScene, camera: Camera2D, checks: ArgChecks) -> None:
+    """The commands, and their checks for demos (`checks`)."""
     reg = console.registry
+    checks.reshaped_by("snowflake", "snow.add", "snow.remove", "snow.clear", "scene.load")
+
+    @checks.add("snow.level")
+    def level_value(value: float | None = None) -> float | None:
+        if value is not None and not 0 <= value <= MAX_LEVEL:
+            raise CommandError(f"level must be within 0..{MAX_LEVEL:g}, got {value:g}")
+        return value
+
+    @checks.add("snow.move", "snowflake")
+    @checks.add("snow.remove", "snowflake")
+    def flake_at(index: int, *position: float) -> Flake:
+        """The flake `index` (moved to `position` if given) or a refusal."""
+        if not 0 <= index < len(scene.flakes):
+            raise CommandError(f"no flake {index} (there are {len(scene.flakes)})")
+        return new_flake(*position, scene.flakes[index].radius) if position else scene.flakes[index]
+
+    @checks.add("snow.add")
+    def new_flake(x: float, y: float, radius: float = DEFAULT_RADIUS) -> Flake:
+        storable("a flake's centre and radius", x, y, radius)
+        return Flake(x, y, radius)
 
     @reg.command("snow.level", "[level:float]", f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)")
     def level(value: float | None = None) -> None:
-        if value is None:
+        if level_value(value) is None:
             console.print(f"snow.level is {scene.level:g}")
         else:
             scene.level = value
@@ -33,14 +57,19 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
 
     @reg.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)")
     def add(x: float, y: float, radius: float = DEFAULT_RADIUS) -> None:
+        new_flake(x, y, radius)
+        if len(scene.flakes) >= MAX_FLAKES:
+            raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
         console.print(f"flake {scene.add(x, y, radius)} at ({x:g}, {y:g})")
 
     @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)
     def move(index: int, x: float, y: float) -> None:
+        flake_at(index, x, y)
         scene.move(index, x, y)
 
     @reg.command("snow.remove", "index:int", "Remove a flake")
     def remove(index: int) -> None:
+        flake_at(index)
         scene.remove(index)
 
     @reg.command("snow.clear", "", "Remove every flake")
@@ -53,9 +82,13 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D) -> None:
             console.print(f"{i}: ({f.x:g}, {f.y:g}) radius {f.radius:g}")
         console.print(f"{len(scene.flakes)} flakes, level {scene.level:g}")
 
-    @reg.command("snow.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height it shows",
-                 quiet=True)
-    def view(cx: float, cy: float, height: float) -> None:
+    @checks.add("snow.view")
+    def view_values(cx: float, cy: float, height: float) -> tuple[float, float, float]:
         if height <= 0:
             raise CommandError(f"height must be > 0, got {height:g}")
-        camera.cx, camera.cy, camera.height = cx, cy, height
+        return cx, cy, height
+
+    @reg.command("snow.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height it shows",
+                 quiet=True)
+    def view(*values: float) -> None:
+        camera.cx, camera.cy, camera.height = view_values(*values)

@@ -12,7 +12,7 @@ from app.console.registry import CommandError, Cvar
 from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
 from app.model.camera3d import OrbitCamera
 from app.model.render_modes import MODES
-from app.model.volume import AXES, Volume
+from app.model.volume import AXES, MAX_COORD, MAX_SIDE, Volume
 from app.model.volume_samples import SAMPLES, make
 
 if TYPE_CHECKING:
@@ -37,6 +37,8 @@ def _axis(axis: str) -> str:
 def _points(coords: list[int]) -> list[tuple[int, int]]:
     if not coords or len(coords) % 2:
         raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
+    if max(map(abs, coords)) > MAX_COORD:
+        raise CommandError(f"stroke points must be within -{MAX_COORD}..{MAX_COORD}")
     return list(zip(coords[0::2], coords[1::2]))
 
 
@@ -63,6 +65,9 @@ def register(editor: "Editor") -> None:
     console = editor.console
     reg = console.registry
     view = editor.volume_view
+    checks = editor.demos.arg_checks
+    # Their voxel and slice checks read the volume's size: after any of these a demo's checker cannot know it.
+    checks.reshaped_by("volume", "new", "load", "sample", "rotate", "undo", "redo")
     volume_files = lambda p: files.complete(p, SUPPORTED)  # noqa: E731
     # The seed's ray-tracer variables (default.cfg sets them too): typed and bounded here.
     for name, kind, default, lo, hi, text in (
@@ -124,21 +129,35 @@ def register(editor: "Editor") -> None:
             raise CommandError(str(exc)) from None
         console.print(f"saved {target}")
 
-    @reg.command("sample", "name [size:int]", "Load a sample volume: " + ", ".join(SAMPLES),
-                 completer=lambda p: [s for s in SAMPLES if s.startswith(p)])
-    def sample(name: str, size: int = 64) -> None:
+    @checks.add("sample")
+    def sample_args(name: str, size: int = 64) -> tuple[str, int]:
         if name not in SAMPLES:
             raise CommandError(f"no sample {name!r}; choose one of {', '.join(SAMPLES)}")
         if not 8 <= size <= MAX_SAMPLE:
             raise CommandError(f"sample size must be within 8..{MAX_SAMPLE}, got {size}")
+        return name, size
+
+    @reg.command("sample", "name [size:int]", "Load a sample volume: " + ", ".join(SAMPLES),
+                 completer=lambda p: [s for s in SAMPLES if s.startswith(p)])
+    def sample(*args) -> None:
+        name, size = sample_args(*args)
         replace(make(name, size), f"sample {name}")
 
-    @reg.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel")
-    def voxel(x: int, y: int, z: int, r: int, g: int, b: int, a: int) -> None:
-        volume().set_voxel(x, y, z, _rgba(r, g, b, a))
+    @checks.add("voxel", "volume")
+    def voxel_args(x: int, y: int, z: int, r: int, g: int, b: int, a: int):
+        volume().pick(x, y, z)  # reading refuses a voxel outside the volume
+        return x, y, z, _rgba(r, g, b, a)
 
+    @reg.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel")
+    def voxel(*args: int) -> None:
+        volume().set_voxel(*voxel_args(*args))
+
+    @checks.add("stroke", "volume")
     def stroke_args(axis, index, size, r, g, b, a, coords):
-        return _axis(axis), index, size, _rgba(r, g, b, a), _points(coords)
+        volume().slice(_axis(axis), index)  # refuses an index past the depth
+        if not 1 <= size <= MAX_SIDE:
+            raise CommandError(f"brush size must be within 1..{MAX_SIDE}, got {size}")
+        return axis, index, size, _rgba(r, g, b, a), _points(coords)
 
     @reg.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                  "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)")
@@ -155,10 +174,17 @@ def register(editor: "Editor") -> None:
     def stroke_cancel() -> None:
         volume().clear_preview()
 
+    @checks.add("fill", "volume")
+    def fill_args(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int):
+        volume().voxel_of(_axis(axis), index, u, v)  # refuses a point outside the slice
+        return axis, index, u, v, _rgba(r, g, b, a)
+
     @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int",
                  "Flood-fill the region of one colour around (x, y) within a slice")
-    def fill(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int) -> None:
-        volume().fill(_axis(axis), index, u, v, _rgba(r, g, b, a))
+    def fill(*args) -> None:
+        volume().fill(*fill_args(*args))
+
+    checks.add("rotate")(_axis)
 
     @reg.command("rotate", "axis", "Rotate the volume 90 degrees about x, y or z (keys 5/6/7)",
                  completer=lambda p: [a for a in AXES if a.startswith(p)])
@@ -178,21 +204,29 @@ def register(editor: "Editor") -> None:
 
     editor.histories["volume"] = (lambda: history_step(volume().undo), lambda: history_step(volume().redo))
 
+    checks.add("pick", "volume")(lambda x, y, z: volume().pick(x, y, z))
+
     @reg.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour")
     def pick(x: int, y: int, z: int) -> None:
         view.brush = volume().pick(x, y, z)
         console.print(f"brush colour {' '.join(map(str, view.brush))}")
 
+    checks.add("brush.color")(_rgba)
+
     @reg.command("brush.color", "r:int g:int b:int a:int", "Set the brush colour (a = 0 erases)")
     def brush_color(r: int, g: int, b: int, a: int) -> None:
         view.brush = _rgba(r, g, b, a)
 
-    @reg.command("slice", "axis index:int", "Edit this slice in the painter")
-    def slice_(axis: str, index: int) -> None:
+    @checks.add("slice", "volume")
+    def slice_args(axis: str, index: int) -> tuple[str, int]:
         depth = volume().depth(_axis(axis))
         if not 0 <= index < depth:
             raise CommandError(f"slice {index} is outside 0..{depth - 1} along {axis}")
-        view.axis, view.index = axis, index
+        return axis, index
+
+    @reg.command("slice", "axis index:int", "Edit this slice in the painter")
+    def slice_(*args) -> None:
+        view.axis, view.index = slice_args(*args)
 
     @reg.command("slice.step", "delta:int", "Move to a neighbouring slice, clamped (keys q/e)")
     def slice_step(delta: int) -> None:
@@ -203,11 +237,15 @@ def register(editor: "Editor") -> None:
     def slice_highlight(axis: str | None = None, index: int | None = None) -> None:
         view.highlight = None if axis is None or index is None else (_axis(axis), index)
 
+    @checks.add("orbit")
+    def orbit_camera(yaw: float, pitch: float, distance: float | None = None) -> OrbitCamera:
+        cam = view.camera
+        return OrbitCamera(yaw % 360.0, pitch, cam.distance if distance is None else distance, cam.fov)
+
     @reg.command("orbit", "yaw:float pitch:float [distance:float]", "Place the 3D view's camera (left drag; w/s)",
                  quiet=True)
-    def orbit(yaw: float, pitch: float, distance: float | None = None) -> None:
-        cam = view.camera
-        view.camera = OrbitCamera(yaw % 360.0, pitch, cam.distance if distance is None else distance, cam.fov)
+    def orbit(*args: float) -> None:
+        view.camera = orbit_camera(*args)
 
     @reg.command("orbit.step", "dyaw:float dpitch:float [ddistance:float]", "Turn the 3D view's camera by steps")
     def orbit_step(dyaw: float, dpitch: float, ddistance: float = 0.0) -> None:
@@ -216,13 +254,17 @@ def register(editor: "Editor") -> None:
         distance = min(max(cam.distance + ddistance, 1.0), 20.0)
         orbit(cam.yaw + dyaw, pitch, distance)
 
+    @checks.add("mode")
+    def mode_number(number: int | None = None) -> int | None:
+        if number is not None and number not in MODES:
+            raise CommandError(f"no mode {number}; modes are 1..{len(MODES)}")
+        return number
+
     @reg.command("mode", "[number:int]", "Show or pick the ray tracer's mode (F1-F11): " +
                  "; ".join(f"{m.number} {m.name}" for m in MODES.values()))
     def mode(number: int | None = None) -> None:
-        if number is None:
+        if mode_number(number) is None:
             console.print(f"mode {view.mode}: {MODES[view.mode].name}")
-        elif number not in MODES:
-            raise CommandError(f"no mode {number}; modes are 1..{len(MODES)}")
         else:
             view.mode = number
 
@@ -259,6 +301,8 @@ def register(editor: "Editor") -> None:
         x, y, z = view.light
         a = math.radians(degrees)
         view.light = (x * math.cos(a) + z * math.sin(a), y, -x * math.sin(a) + z * math.cos(a))
+
+    checks.add("vol.background")(lambda r, g, b: _rgba(r, g, b, 255))
 
     @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)")
     def background(r: int, g: int, b: int) -> None:

@@ -14,9 +14,8 @@ editor was in, so a demo replayed in a fresh editor ends in the recorded state.
 """
 from __future__ import annotations
 
-import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Protocol
 
@@ -26,6 +25,9 @@ from app.io.atomic import write_text
 
 MAGIC = "shadelab-demo"
 VERSION = 1
+# Bounds that keep every due time a host computes (start + time / speed) a number it can sleep until.
+MAX_TIME = 86_400.0  # seconds: a day
+MIN_SPEED, MAX_SPEED = 1 / 64, 64.0
 
 
 class Clock(Protocol):
@@ -78,45 +80,118 @@ def parse(text: str, source: str = "demo") -> list[Event]:
             t = float(stamp)
         except ValueError:
             raise DemoError(f"{source}:{number}: expected '<seconds> <command>', got {line!r}") from None
-        if not math.isfinite(t) or t < 0 or (events and t < events[-1].time):
-            raise DemoError(f"{source}:{number}: time {stamp} must be finite, >= 0 and not before the line above")
+        if not 0 <= t <= MAX_TIME or (events and t < events[-1].time):
+            raise DemoError(f"{source}:{number}: time {stamp} must be within 0..{MAX_TIME:g} s "
+                            "and not before the line above")
         if not command.strip():
             raise DemoError(f"{source}:{number}: no command after the time")
         events.append(Event(t, command.strip()))
     return events
 
 
-def check(console: Console, events: list[Event], source: str = "demo") -> None:
-    """Refuse commands the console does not know or whose arguments cannot bind, before any runs."""
-    reg = console.registry
-    created: set[str] = set()  # names a `set` or `alias` earlier in the demo will make
+ArgCheck = Callable[..., object]
+EVERY_MODEL = "*"
+
+
+class ArgChecks:
+    """Value checks a demo runs before any of its commands, beyond names and argument types.
+
+    For a command name, a function of its bound arguments (for a cvar name, of its parsed value) that
+    raises CommandError or ValueError where running the command now would be refused, changing nothing:
+    a voxel outside the volume, a slice index past its depth, a light that does not exist. The command
+    modules register them (the registry's Command has no place for one yet); handlers call the same
+    function first, so a check cannot drift from what the command accepts.
+
+    A check that reads a model's current shape names that model (a workspace name). Once the demo has
+    run a command that may reshape it (`new`, `light.add`, `undo`...: see `reshaped_by`), the checker
+    cannot know the new shape and skips that model's checks for the rest of the demo; playback then
+    stops at the first command that fails."""
+
+    def __init__(self) -> None:
+        self._checks: dict[str, tuple[ArgCheck, str | None]] = {}
+        self._reshapers: dict[str, set[str]] = {}
+
+    def add(self, name: str, model: str | None = None) -> Callable[[ArgCheck], ArgCheck]:
+        """Decorator: `check` validates the arguments of command (or cvar) `name`, reading `model`'s shape."""
+        def register(check: ArgCheck) -> ArgCheck:
+            self._checks[name] = (check, model)
+            return check
+        return register
+
+    def reshaped_by(self, model: str, *names: str) -> None:
+        """These commands may change `model`'s shape (sizes, counts), so later checks of it cannot be trusted."""
+        for name in names:
+            self._reshapers.setdefault(name, set()).add(model)
+
+    def run(self, name: str, values: list, unknown: set[str]) -> None:
+        """Check one command unless its model's shape is `unknown`; then add what it reshapes to `unknown`."""
+        check, model = self._checks.get(name, (None, None))
+        if check is not None and not {model, EVERY_MODEL} & unknown:
+            check(*values)
+        unknown |= self._reshapers.get(name, set())
+
+
+@dataclass
+class _Seen:
+    """What the checker knows of the state a demo builds as it goes."""
+    cvars: set[str] = field(default_factory=set)  # made by the demo's own `set`: typed only when it runs
+    aliases: set[str] = field(default_factory=set)  # made by the demo's own `alias`
+    unknown: set[str] = field(default_factory=set)  # models whose shape an earlier command may have changed
+
+
+def check(console: Console, events: list[Event], source: str = "demo", arg_checks: ArgChecks | None = None) -> None:
+    """Refuse commands the console does not know, whose arguments cannot bind, or whose values it would
+    refuse now (cvars by their type and range, commands by `arg_checks`), before any runs."""
+    checks, seen = arg_checks or ArgChecks(), _Seen()
     for event in events:
         try:
             for words in split_commands(event.line):
-                name, args = words[0], words[1:]
-                if name in ("set", "seta", "alias") and args:
-                    created.add(args[0])
-                if name in created or any(name.endswith(s) for s in console.file_runners):
-                    continue
-                if name in reg.commands:
-                    reg.commands[name].bind(args)
-                elif name in reg.cvars:
-                    if len(args) == 1:
-                        reg.cvars[name].parse(args[0])
-                elif name not in reg.aliases and name != "wait":
-                    raise CommandError(f"unknown command {name!r}")
-        except CommandError as exc:
+                _check_command(console, checks, words, seen)
+        except (CommandError, ValueError) as exc:  # model refusals are ValueErrors
             raise DemoError(f"{source}: at {event.time:.3f} s: {event.line!r}: {exc}") from None
 
 
-def load(console: Console, path: Path) -> list[Event]:
+def _check_command(console: Console, checks: ArgChecks, words: list[str], seen: _Seen) -> None:
+    reg = console.registry
+    name, args = words[0], words[1:]
+    if name in ("set", "seta") and len(args) == 2:
+        if args[0] in reg.cvars:
+            checks.run(args[0], [reg.cvars[args[0]].parse(args[1])], seen.unknown)
+        else:
+            seen.cvars.add(args[0])
+    elif name == "alias" and args:
+        seen.aliases.add(args[0])
+    if name in seen.cvars:
+        return
+    if name in seen.aliases or name in reg.aliases or any(name.endswith(s) for s in console.file_runners):
+        seen.unknown.add(EVERY_MODEL)  # it runs commands the checker does not see
+    elif name in reg.commands:
+        command = reg.commands[name]
+        checks.run(name, command.bind(args), seen.unknown)
+        if not command.recorded:  # a query, or a runner of others (exec, lua): assume the worst
+            seen.unknown.add(EVERY_MODEL)
+    elif name in reg.cvars:
+        if len(args) == 1:
+            checks.run(name, [reg.cvars[name].parse(args[0])], seen.unknown)
+    elif name != "wait":
+        raise CommandError(f"unknown command {name!r}")
+
+
+def load(console: Console, path: Path, arg_checks: ArgChecks | None = None) -> list[Event]:
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise DemoError(f"cannot read {path}: {exc}") from None
     events = parse(text, path.name)
-    check(console, events, path.name)
+    check(console, events, path.name, arg_checks)
     return events
+
+
+def stopped(events: list[Event], index: int) -> str:
+    """Why playback ended early: the command at `index` failed, so those after it never ran."""
+    event, rest = events[index], len(events) - index - 1
+    return (f"stopped at {event.time:.3f} s, command {index + 1} of {len(events)} ({event.line!r}) failed; "
+            f"the {rest} after it did not run")
 
 
 class Recorder:
@@ -139,23 +214,27 @@ class Recorder:
         return len(self.events)
 
 
+def check_speed(speed: float) -> None:
+    if not MIN_SPEED <= speed <= MAX_SPEED:
+        raise DemoError(f"speed must be within 1/{1 / MIN_SPEED:g}..{MAX_SPEED:g}, got {speed:g}")
+
+
 class Player:
     """Runs a demo's commands when the clock reaches their times (scaled by speed); pausable."""
 
     def __init__(self, console: Console, clock: Clock, events: list[Event], speed: float = 1.0,
                  on_done: Callable[[], None] = lambda: None) -> None:
-        if not (math.isfinite(speed) and speed > 0):
-            raise DemoError(f"speed must be > 0, got {speed}")
+        check_speed(speed)
         self.console, self.clock, self.events, self.speed = console, clock, events, speed
         self.on_done = on_done
         self.index = 0
-        self.failed = 0
+        self.failed_at: int | None = None  # the command that failed and stopped playback
         self.start = clock.now()
         self.paused_at: float | None = None
 
     @property
     def done(self) -> bool:
-        return self.index >= len(self.events)
+        return self.index >= len(self.events) or self.failed_at is not None
 
     def elapsed(self) -> float:
         now = self.paused_at if self.paused_at is not None else self.clock.now()
@@ -177,14 +256,13 @@ class Player:
             self.paused_at = None
 
     def update(self) -> None:
-        """Run every command whose time has come."""
+        """Run every command whose time has come; stop at one that fails, whose state the rest relied on."""
         if self.paused_at is not None:
             return
         elapsed = self.elapsed()
         while not self.done and self.events[self.index].time <= elapsed:
-            line = self.events[self.index].line
+            if not self.console.execute(self.events[self.index].line):
+                self.failed_at = self.index
             self.index += 1
-            if not self.console.execute(line):
-                self.failed += 1
         if self.done:
             self.on_done()

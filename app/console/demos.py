@@ -7,7 +7,7 @@ from typing import Callable
 
 from app.console import demo, files
 from app.console.console import Console
-from app.console.registry import CommandError, Reported
+from app.console.registry import CommandError
 
 DEMO_SUFFIX = ".demo"
 
@@ -29,6 +29,7 @@ class Demos:
         self.console, self.clock, self.preamble, self.frame = console, clock, preamble, frame
         self.recorder: demo.Recorder | None = None
         self.player: demo.Player | None = None
+        self.arg_checks = demo.ArgChecks()  # the command modules add theirs; every demo is checked with them
         self._register()
 
     @property
@@ -45,15 +46,18 @@ class Demos:
         if path is None:
             raise CommandError(f"cannot find {_demo_path(name)}")
         try:
-            return demo.load(self.console, path)
+            return demo.load(self.console, path, self.arg_checks)
         except demo.DemoError as exc:
             raise CommandError(str(exc)) from None
 
-    def _finished(self) -> None:
+    def _finished(self, name: str) -> None:
         player, self.player = self.player, None
-        if player is not None:
-            failed = f", {player.failed} failed" if player.failed else ""
-            self.console.print(f"demo finished: {len(player.events)} commands{failed}")
+        if player is None:
+            return
+        if player.failed_at is None:
+            self.console.print(f"demo finished: {len(player.events)} commands")
+        else:
+            self.console.error(f"{_demo_path(name)}: {demo.stopped(player.events, player.failed_at)}")
 
     def stop_all(self) -> None:
         """Stop playback and save a recording in progress (also on quit)."""
@@ -91,10 +95,9 @@ class Demos:
         def play(name: str, speed: float = 1.0) -> None:
             if self.player is not None:
                 raise CommandError("a demo is already playing; stop it first")
-            if speed <= 0:
-                raise CommandError(f"speed must be > 0, got {speed:g}")
+            demo.check_speed(speed)  # before reading the file: a refused speed needs no file
             events = self._load(name)
-            self.player = demo.Player(self.console, self.clock, events, speed, on_done=self._finished)
+            self.player = demo.Player(self.console, self.clock, events, speed, on_done=lambda: self._finished(name))
             self.console.print(f"playing {_demo_path(name)}: {len(events)} commands, "
                                f"{events[-1].time / speed if events else 0:.1f} s")
             self.player.update()
@@ -114,10 +117,11 @@ class Demos:
                      "print frames per second", recorded=False, completer=demo_files)
         def timedemo(name: str) -> None:
             events = self._load(name)
-            frames, failed = 0, 0
+            frames = 0
             start = time.perf_counter()
             for i, event in enumerate(events):
-                failed += not self.console.execute(event.line, echo=False)
+                if not self.console.execute(event.line, echo=False):  # it logged why; the rest relied on it
+                    raise CommandError(f"{_demo_path(name)}: {demo.stopped(events, i)}")
                 if i + 1 == len(events) or events[i + 1].time != event.time:
                     if self.frame is not None:
                         self.frame()
@@ -126,5 +130,3 @@ class Demos:
             drawn = "" if self.frame is not None else " (commands only, nothing drawn)"
             self.console.print(f"timedemo {_demo_path(name)}: {frames} frames in {seconds:.3f} s = "
                                f"{frames / seconds:.1f} frames/s{drawn}")
-            if failed:
-                raise Reported()  # each failed command logged its reason

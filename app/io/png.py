@@ -31,6 +31,18 @@ def read_png(path: str | os.PathLike) -> np.ndarray:
     image = QImage(os.fspath(path))
     if image.isNull():
         raise OSError(f"cannot read image {path}")
+    return _rgba(image)
+
+
+def decode_png(data: bytes) -> np.ndarray:
+    """An image file's bytes (PNG, or another format Qt reads) as RGBA uint8; OSError if they are none."""
+    image = QImage.fromData(data)
+    if image.isNull():
+        raise OSError("not an image Qt can read")
+    return _rgba(image)
+
+
+def _rgba(image: QImage) -> np.ndarray:
     image = image.convertToFormat(QImage.Format.Format_RGBA8888)
     w, h = image.width(), image.height()
     return np.frombuffer(image.constBits(), np.uint8, count=h * image.bytesPerLine()).reshape(h, -1)[:, : 4 * w].reshape(h, w, 4).copy()

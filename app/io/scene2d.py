@@ -4,45 +4,69 @@ from __future__ import annotations
 import json
 import os
 
+from app.io import json_file as jf
 from app.io.atomic import write_text
-from app.io.json_file import read_versioned
-from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D
+from app.io.textures2d import image
+from app.model.lighting2d import LIGHT_KINDS, SHADOW_TYPES, Hull, Light, Lighting2DError, Scene2D
 
 FORMAT = "shadelab.lighting2d"
 VERSION = 1
-LIGHT_KEYS = ("kind", "position", "origin", "rotation", "scale", "color", "intensity", "radius", "enabled",
-              "casts_shadows", "shadow_type", "cone_decay", "height", "texture", "ignored_hulls")
-SCENE_KEYS = ("ambient", "view", "background", "normal_map")
-HULL_KEYS = ("points", "position", "origin", "rotation", "scale", "enabled")
+MAX_LIGHTS = 256  # each light is a pass per frame: hundreds already take seconds
+MAX_HULLS = 4096
+MAX_HULL_POINTS = 4096
+MAX_IMAGE_NAME = 1024  # characters of an image name, a path included
+
+_PAIR = jf.numbers(2)
+_IMAGE = jf.text(MAX_IMAGE_NAME)
+_FLAG = {"type": "boolean"}
+# The shape and size of every field; what the values mean (colours 0..1, sizes >= 0) the model says.
+_LIGHT = jf.obj({
+    "kind": {"enum": list(LIGHT_KINDS)}, "position": _PAIR, "origin": _PAIR, "rotation": jf.number(),
+    "scale": _PAIR, "color": jf.numbers(3), "intensity": jf.number(), "radius": jf.number(), "enabled": _FLAG,
+    "casts_shadows": _FLAG, "shadow_type": {"enum": list(SHADOW_TYPES)}, "cone_decay": jf.number(),
+    "height": jf.number(), "texture": {**_IMAGE, "type": ["string", "null"]},
+    "ignored_hulls": jf.array({"type": "integer", "minimum": 0, "maximum": MAX_HULLS - 1}, MAX_HULLS)})
+_HULL = jf.obj({
+    "points": jf.array(_PAIR, MAX_HULL_POINTS, at_least=1, title="points"), "position": _PAIR, "origin": _PAIR,
+    "rotation": jf.number(), "scale": _PAIR, "enabled": _FLAG}, required=["points"])
+_SCENE = {"ambient": jf.numbers(3), "view": jf.numbers(3), "background": _IMAGE,
+          "normal_map": {**_IMAGE, "type": ["string", "null"]}}
+VALIDATOR = jf.validator({**_SCENE, "lights": jf.array(_LIGHT, MAX_LIGHTS, title="lights"),
+                          "hulls": jf.array(_HULL, MAX_HULLS, title="hulls")})
 
 
 def load(path: str | os.PathLike) -> Scene2D:
-    data = read_versioned(path, FORMAT, VERSION, Lighting2DError)
+    """The scene in the file, once every field has the right shape, every value the model's range and
+    every image it names can be read; otherwise Lighting2DError naming the field."""
+    data = jf.read_versioned(path, FORMAT, VERSION, Lighting2DError, VALIDATOR)
     try:
-        lights = [_make(Light, item, LIGHT_KEYS, f"light {i}") for i, item in enumerate(data.get("lights", []))]
-        hulls = [_make(Hull, item, HULL_KEYS, f"hull {i}") for i, item in enumerate(data.get("hulls", []))]
-        unknown = set(data) - {"format", "version", *SCENE_KEYS, "lights", "hulls"}
-        if unknown:
-            raise Lighting2DError(f"unknown keys: {', '.join(sorted(unknown))}")
-        return Scene2D(lights=lights, hulls=hulls, **{k: data[k] for k in SCENE_KEYS if k in data})
+        lights = [_make(Light, item, f"lights[{i}]") for i, item in enumerate(data.get("lights", []))]
+        hulls = [_make(Hull, item, f"hulls[{i}]") for i, item in enumerate(data.get("hulls", []))]
+        scene = Scene2D(lights=lights, hulls=hulls, **{k: data[k] for k in _SCENE if k in data})
+        _check_images(scene)
     except Lighting2DError as exc:
         raise Lighting2DError(f"{path}: {exc}") from None
-    except TypeError as exc:
-        raise Lighting2DError(f"{path}: invalid scene: {exc}") from None
+    return scene
 
 
-def _make(kind, item, keys: tuple[str, ...], what: str):
-    if not isinstance(item, dict):
-        raise Lighting2DError(f"{what} must be an object")
-    unknown = set(item) - set(keys)
-    if unknown:
-        raise Lighting2DError(f"{what} has unknown keys: {', '.join(sorted(unknown))}")
+def _make(kind, item: dict, where: str):
+    """The model's constructor on values the schema passed; its refusal names the field."""
     try:
         return kind(**item)
     except Lighting2DError as exc:
-        raise Lighting2DError(f"{what}: {exc}") from None
-    except (TypeError, ValueError) as exc:
-        raise Lighting2DError(f"{what} is invalid: {exc}") from None
+        raise Lighting2DError(f"{where}: {exc}") from None
+
+
+def _check_images(scene: Scene2D) -> None:
+    """Every image a scene names must load now, not fail every frame later."""
+    named = [("background", scene.background), ("normal_map", scene.normal_map),
+             *((f"lights[{i}].texture", light.texture) for i, light in enumerate(scene.lights))]
+    for where, name in named:
+        if name is not None:
+            try:
+                image(name)
+            except Lighting2DError as exc:
+                raise Lighting2DError(f"{where}: {exc}") from None
 
 
 def dumps(scene: Scene2D) -> str:

@@ -9,10 +9,12 @@ import os
 
 import numpy as np
 
-from app.io.png import read_png
+from app.io._regular import read_regular
+from app.io.png import decode_png
 from app.model.lighting2d import Lighting2DError
 
 BUILTIN = "builtin:"
+MAX_IMAGE_BYTES = 64 << 20  # a file, before decoding; Qt caps the decoded image at 256 MB by itself
 
 
 def _grid(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -79,9 +81,9 @@ def _load(name: str, mtime: float) -> np.ndarray:
         image = BUILTINS[key]()
     else:
         try:
-            image = read_png(name)
+            image = decode_png(read_regular(name, MAX_IMAGE_BYTES))
         except OSError as exc:
-            raise Lighting2DError(str(exc)) from None
+            raise Lighting2DError(f"cannot read image {name}: {exc.strerror or exc}") from None
     image.setflags(write=False)
     return image
 
