@@ -42,15 +42,19 @@ def run_as(editor, origin, line, tmp_path):
     if origin == "alias":
         console.registry.set_alias("doit", line)
         return console.execute("doit")
+    if origin == "demo":
+        (scripts / "s.demo").write_text(f"shadelab-demo 1\n0 {line}\n")
+        ok = console.execute(f"play {shlex.quote(str(scripts / 's.demo'))}")
+        return ok and not editor.demos.playing and not any("stopped at" in e for e in errors(editor))
     assert origin == "bind"  # what MainWindow.run_bind does with a bound key's command
     editor.binds.bind("k", line)
     with console.untrusted("bind"):
         return console.execute(editor.binds.lookup("snowflake", "k"))
 
 
-ORIGINS = ["lua", "config", "alias", "bind"]
+ORIGINS = ["lua", "config", "alias", "bind", "demo"]
 WRITERS = ["condump {}", "writeconfig {}", "save {}", "scene.save {}", "record {}"]
-READERS = ["exec {}", "lua {}", "load {}", "scene.load {}"]
+READERS = ["exec {}", "lua {}", "load {}", "scene.load {}", "play {}", "lighting.background {}"]
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
@@ -83,12 +87,14 @@ def test_untrusted_relative_names_land_in_the_user_folder(editor, tmp_path, orig
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("command", READERS)
 def test_untrusted_lines_read_nothing_outside_their_places(editor, tmp_path, outside, origin, command):
-    secret = outside / ("secret.cfg" if command.startswith("exec") else "secret.lua")
-    secret.write_text("echo the secret\n")
+    secret = outside / {"exec": "secret.cfg", "play": "secret.demo", "lighting.background": "secret.png"}.get(
+        command.split()[0], "secret.lua")
+    secret.write_text("shadelab-demo 1\n0 echo the secret\n" if secret.suffix == ".demo" else "echo the secret\n")
     before = editor.digest()
     assert not run_as(editor, origin, command.format(shlex.quote(str(secret))), tmp_path)
     assert "the secret" not in [line.text for line in editor.console.log]
-    assert any("may not read" in e for e in errors(editor)), errors(editor)
+    refusal = "a demo is already playing" if (origin, command) == ("demo", "play {}") else "may not read"
+    assert any(refusal in e for e in errors(editor)), errors(editor)
     assert editor.digest() == before
 
 

@@ -10,10 +10,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from app.console import files
 from app.console.registry import CommandError, Cvar
 from app.io import scene2d as scene_file
 from app.io.json_file import storable
-from app.io.textures2d import image
+from app.io.textures2d import BUILTIN, image
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D
 from app.model.lighting2d_history import History2D
 from app.resources import SCENES
@@ -181,6 +182,8 @@ def register(editor: "Editor") -> None:
             loaded = scene_file.load(path)
         except (Lighting2DError, OSError) as exc:
             raise CommandError(str(exc)) from None
+        for name in loaded.image_names():
+            check_image(name)
         edit()
         editor.replace_lighting(loaded)
         console.print(f"loaded {len(loaded.lights)} lights and {len(loaded.hulls)} hulls from {Path(path).name}")
@@ -203,12 +206,18 @@ def register(editor: "Editor") -> None:
         scene().ambient = value
         scene().touch()
 
-    checks.add("lighting.background")(_check_image)
-    checks.add("lighting.normalmap")(lambda name: name == "none" or _check_image(name))
+    def check_image(name: str) -> None:
+        """An image a scene may name; a script, demo or config may name only files it may read."""
+        if not name.startswith(BUILTIN):
+            files.readable(console, name)
+        _check_image(name)
+
+    checks.add("lighting.background")(check_image)
+    checks.add("lighting.normalmap")(lambda name: name == "none" or check_image(name))
 
     @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path")
     def background(name: str) -> None:
-        _check_image(name)
+        check_image(name)
         edit()
         scene().background = name
         scene().touch()
@@ -216,7 +225,7 @@ def register(editor: "Editor") -> None:
     @reg.command("lighting.normalmap", "image", "Normals for lights with a height: builtin:NAME, a PNG path, or none")
     def normalmap(name: str) -> None:
         if name != "none":
-            _check_image(name)
+            check_image(name)
         edit()
         scene().normal_map = None if name == "none" else name
         scene().touch()
@@ -241,7 +250,7 @@ def register(editor: "Editor") -> None:
         extra = {"origin": (0.0, 0.5), "scale": (300.0, 200.0)} if kind == "spot" else {}
         if kind == "textured":
             texture = texture or "builtin:window"
-            _check_image(texture)
+            check_image(texture)
             extra["radius"] = 5.0
         storable("the light position", x, y)
         return make(Light, kind=kind, position=(x, y), texture=texture, **extra)
@@ -259,7 +268,7 @@ def register(editor: "Editor") -> None:
         light = light_at(index)
         value = _parse_light_value(key, values)
         if key == "texture" and value:
-            _check_image(value)
+            check_image(value)
         if key in LIGHT_TUPLES | LIGHT_FLOATS:
             storable(f"light {key}", *(value if isinstance(value, tuple) else (value,)))
         try:

@@ -29,6 +29,7 @@ class Demos:
         self.console, self.clock, self.preamble, self.frame = console, clock, preamble, frame
         self.recorder: demo.Recorder | None = None
         self.player: demo.Player | None = None
+        self._home: Path | None = None  # the folder of the demo playing: its lines may read beside it
         self.arg_checks = demo.ArgChecks()  # the command modules add theirs; every demo is checked with them
         self._register()
 
@@ -37,16 +38,19 @@ class Demos:
         return self.player is not None
 
     def update(self) -> None:
-        """Hosts call this often while playing (a Qt timer; the headless loop after sleeping)."""
+        """Hosts call this often while playing (a Qt timer; the headless loop after sleeping). A demo's
+        lines run untrusted: they read only beside it, in the user folder and the resources."""
         if self.player is not None:
-            self.player.update()
+            with self.console.untrusted("demo", self._home):
+                self.player.update()
 
-    def _load(self, name: str) -> list[demo.Event]:
-        path = files.find(_demo_path(name))
+    def _load(self, name: str) -> tuple[list[demo.Event], Path]:
+        path = files.find(_demo_path(name), self.console)
         if path is None:
             raise CommandError(f"cannot find {_demo_path(name)}")
         try:
-            return demo.load(self.console, path, self.arg_checks)
+            with self.console.untrusted("demo", path.parent):  # its checks read what its lines would
+                return demo.load(self.console, path, self.arg_checks), path.parent
         except demo.DemoError as exc:
             raise CommandError(str(exc)) from None
 
@@ -96,11 +100,11 @@ class Demos:
             if self.player is not None:
                 raise CommandError("a demo is already playing; stop it first")
             demo.check_speed(speed)  # before reading the file: a refused speed needs no file
-            events = self._load(name)
+            events, self._home = self._load(name)
             self.player = demo.Player(self.console, self.clock, events, speed, on_done=lambda: self._finished(name))
             self.console.print(f"playing {_demo_path(name)}: {len(events)} commands, "
                                f"{events[-1].time / speed if events else 0:.1f} s")
-            self.player.update()
+            self.update()
 
         @reg.command("pause", "", "Pause or resume the demo playing", recorded=False)
         def pause() -> None:
@@ -116,11 +120,13 @@ class Demos:
         @reg.command("timedemo", "demo", "Replay a demo as fast as possible, a frame per time step, and "
                      "print frames per second", recorded=False, completer=demo_files)
         def timedemo(name: str) -> None:
-            events = self._load(name)
+            events, home = self._load(name)
             frames = 0
             start = time.perf_counter()
             for i, event in enumerate(events):
-                if not self.console.execute(event.line, echo=False):  # it logged why; the rest relied on it
+                with self.console.untrusted("demo", home):
+                    ok = self.console.execute(event.line, echo=False)
+                if not ok:  # it logged why; the rest relied on it
                     raise CommandError(f"{_demo_path(name)}: {demo.stopped(events, i)}")
                 if i + 1 == len(events) or events[i + 1].time != event.time:
                     if self.frame is not None:

@@ -272,6 +272,10 @@ class Scene2D:
         if not isinstance(self.background, str) or not self.background:
             raise Lighting2DError("background must be a builtin name or an image path")
 
+    def image_names(self) -> list[str]:
+        """Every image the scene names: the background, the normal map and the textured lights' images."""
+        return [n for n in (self.background, self.normal_map, *(light.texture for light in self.lights)) if n]
+
     def touch(self) -> None:
         self.version += 1
 
