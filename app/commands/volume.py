@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from app.console import files
 from app.console.registry import CommandError, Cvar
 from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
+from app.model import volume as volume_model
 from app.model.camera3d import OrbitCamera
 from app.model.render_modes import MODES
 from app.model.volume import AXES, Volume
@@ -109,7 +110,7 @@ def register(editor: "Editor") -> None:
     def load(path: str) -> None:
         found = files.find(path) if "%" not in path else Path(path)
         try:
-            data = read_volume(found or path)
+            data = read_volume(found or path, max_bytes=volume_model.MAX_BYTES)  # the model's limit, before reading
         except FormatError as exc:
             raise CommandError(str(exc)) from None
         replace(data, f"loaded {path}")
