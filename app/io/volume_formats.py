@@ -17,6 +17,7 @@ import hashlib
 import io
 import json
 import logging
+import lzma
 import math
 import os
 import re
@@ -162,15 +163,26 @@ def _write_r3(path: PathLike, data: np.ndarray) -> None:
 # --- .npy ------------------------------------------------------------------------------------------------------
 
 
+# numpy refuses a header over 10000 bytes, but only once it has allocated and read as many as the header's
+# length field says: up to 4 GiB for a 2.0 file.
+_NPY_MAX_HEADER = 10000
+_NPY_HEADERS = {  # version: (its header length field, numpy's header reader)
+    (1, 0): (struct.Struct("<H"), np.lib.format.read_array_header_1_0),
+    (2, 0): (struct.Struct("<I"), np.lib.format.read_array_header_2_0),
+}
+
+
 def _read_npy(path: PathLike, max_bytes: int) -> np.ndarray:
     with _open(path, max_bytes) as f, _library_errors(path, ".npy file"):
         version = np.lib.format.read_magic(f)
-        if version == (1, 0):
-            shape, _, dtype = np.lib.format.read_array_header_1_0(f)
-        elif version == (2, 0):
-            shape, _, dtype = np.lib.format.read_array_header_2_0(f)
-        else:  # 3.0 only exists for structured dtypes with unicode field names, which are no volume anyway
+        if version not in _NPY_HEADERS:  # 3.0 is only for structured dtypes with unicode field names: no volume
             raise FormatError(f"{path}: unsupported .npy version {version[0]}.{version[1]}")
+        length, read_header = _NPY_HEADERS[version]
+        (header_bytes,) = length.unpack(f.read(length.size))
+        if header_bytes > _NPY_MAX_HEADER:
+            raise FormatError(f"{path}: the .npy header says it is {header_bytes} bytes long, over {_NPY_MAX_HEADER}")
+        f.seek(-length.size, io.SEEK_CUR)
+        shape, _, dtype = read_header(f)
         _check_array(path, shape, dtype, max_bytes)
         f.seek(0)
         array = np.load(f, allow_pickle=False)
@@ -193,6 +205,34 @@ class _LogRecords(logging.Handler):
 
     def emit(self, record: logging.LogRecord) -> None:
         self.messages.append(record.getMessage())
+
+
+# Without imagecodecs, tifffile inflates a zlib or LZMA segment whole, whatever size its page gives it; an LZMA
+# decoder also allocates the dictionary its stream declares (8 MiB by default, up to 4 GiB), here within max_bytes.
+_TIFF_INFLATERS = {  # compression: a decompressor within max_bytes
+    **dict.fromkeys((8, 32946, 50013), lambda max_bytes: zlib.decompressobj()),
+    34925: lambda max_bytes: lzma.LZMADecompressor(memlimit=max_bytes),
+}
+
+
+def _check_segments(path: PathLike, f: BinaryIO, keyframe: tifffile.TiffPage, pages: list, max_bytes: int) -> None:
+    """tifffile reads as many bytes as a strip's or tile's byte count says and inflates a compressed one whole (64 MiB
+    of zeros fit in a 64 KiB zlib strip). So each must lie within the file, its declared size (a tile may be declared
+    far larger than its image) within max_bytes, and a compressed one must inflate to no more than that."""
+    size = math.prod(keyframe.chunks) * keyframe.dtype.itemsize
+    if size > max_bytes:
+        raise FormatError(f"{path}: a TIFF tile or strip of {size} bytes is over the size limit of {max_bytes} bytes")
+    inflater = _TIFF_INFLATERS.get(keyframe.compression)
+    file_size = os.fstat(f.fileno()).st_size
+    for page in pages:
+        for offset, count in zip(page.dataoffsets, page.databytecounts):
+            if offset + count > file_size:
+                raise FormatError(f"{path} is truncated: a TIFF strip or tile ends at byte {offset + count} of {file_size}")
+            if inflater is None:
+                continue
+            f.seek(offset)
+            if len(inflater(max_bytes).decompress(f.read(count), size + 1)) > size:
+                raise FormatError(f"{path}: a compressed TIFF strip or tile holds more than the {size} bytes of its page")
 
 
 def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
@@ -227,7 +267,8 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
             photometric = series.keyframe.photometric
             if photometric not in (tifffile.PHOTOMETRIC.MINISBLACK, tifffile.PHOTOMETRIC.RGB):
                 raise FormatError(f"{path}: TIFF colour model {photometric.name} is not supported (greyscale or RGB/RGBA)")
-            array = series.asarray()
+            _check_segments(path, f, series.keyframe, series.pages, max_bytes)
+            array = series.asarray(maxworkers=1)  # one segment decoded at a time: _check_segments bounds each
     finally:
         logger.removeHandler(log)
     if log.messages:
