@@ -184,13 +184,10 @@ def _mean27(near: np.ndarray) -> np.ndarray:
     return total.astype(np.uint8)
 
 
-def _restore(near: np.ndarray, index: tuple[np.ndarray, ...], box: Box, before: np.ndarray) -> None:
-    """Put the voxels of `box` gathered into `near` (at the ascending z, y, x indices `index`) back to `before`."""
-    parts = []
-    for idx, lo, hi in zip(index, (box.z0, box.y0, box.x0), (box.z1, box.y1, box.x1)):
-        a, b = np.searchsorted(idx, (lo, hi))
-        parts.append((slice(a, b), idx[a:b] - lo))
-    near[tuple(s for s, _ in parts)] = before[np.ix_(*(i for _, i in parts))]
+def _within(inner: Box, outer: Box) -> tuple[slice, slice, slice]:
+    """inner's (z, y, x) slices into an array that holds outer."""
+    return (slice(inner.z0 - outer.z0, inner.z1 - outer.z0), slice(inner.y0 - outer.y0, inner.y1 - outer.y0),
+            slice(inner.x0 - outer.x0, inner.x1 - outer.x0))
 
 
 @lru_cache(maxsize=64)
@@ -546,19 +543,28 @@ class Volume:
     def _smoothed_tiles(self, box: Box, before: np.ndarray | None = None) -> Iterator[tuple[Box, np.ndarray]]:
         """(tile, its smoothed voxels) for tiles of `box` of at most _SMOOTH_TILE voxels, in z, y order; `before`,
         when given, holds the original voxels of `box`, which the caller is overwriting tile by tile."""
-        w, h, d = self.size
         bw, bh, _ = box.shape
         rows = max(1, min(bh, _SMOOTH_TILE // bw))
         layers = max(1, _SMOOTH_TILE // (bw * bh)) if rows == bh else 1
-        xs = np.clip(np.arange(box.x0 - 1, box.x1 + 1), 0, w - 1)
         for z in range(box.z0, box.z1, layers):
-            zs = np.clip(np.arange(z - 1, min(z + layers, box.z1) + 1), 0, d - 1)
             for y in range(box.y0, box.y1, rows):
-                ys = np.clip(np.arange(y - 1, min(y + rows, box.y1) + 1), 0, h - 1)
-                near = self.data[np.ix_(zs, ys, xs)]
-                if before is not None:
-                    _restore(near, (zs, ys, xs), box, before)
-                yield Box(box.x0, y, z, box.x1, min(y + rows, box.y1), min(z + layers, box.z1)), _mean27(near)
+                tile = Box(box.x0, y, z, box.x1, min(y + rows, box.y1), min(z + layers, box.z1))
+                yield tile, _mean27(self._neighbourhood(tile, box, before))
+
+    def _neighbourhood(self, tile: Box, box: Box, before: np.ndarray | None) -> np.ndarray:
+        """The voxels `tile` is smoothed from: one more on every side, the border repeated beyond the volume's
+        edge; the voxels of `box` as `before` holds them, when given."""
+        around = Box(tile.x0 - 1, tile.y0 - 1, tile.z0 - 1, tile.x1 + 1, tile.y1 + 1, tile.z1 + 1)
+        inside = around.intersect(self.full_box())
+        region = self.data[inside.slices()]
+        if before is not None:
+            region = region.copy()
+            restored = inside.intersect(box)
+            region[_within(restored, inside)] = before[_within(restored, box)]
+        w, h, d = self.size
+        edges = [(int(lo == 0), int(hi == n)) for lo, hi, n in ((tile.z0, tile.z1, d), (tile.y0, tile.y1, h),
+                                                                (tile.x0, tile.x1, w))]
+        return np.pad(region, edges + [(0, 0)], mode="edge") if any(map(any, edges)) else region
 
     def _paint_plane(self, axis: str, index: int, region: np.ndarray, mask: np.ndarray,
                      colour: np.ndarray, u0: int, v0: int) -> Box | None:
