@@ -47,3 +47,14 @@ def test_sizes_over_the_limit_are_refused(tmp_path):
     assert error.errno == errno.EFBIG and error.strerror == "the file is over the size limit of 10 bytes (11 bytes)"
     with pytest.raises(OSError, match="over the size limit of 10 bytes"):
         read_regular_bytes(tmp_path / "big", 10)
+
+
+def test_reads_stop_at_the_size_the_file_had_when_opened(tmp_path):
+    (tmp_path / "a.bin").write_bytes(b"abc")
+    with open_regular(tmp_path / "a.bin") as f:
+        assert f.read(1 << 50) == b"abc"  # a plain file object allocates the 1 PiB first, and fails
+        with open(tmp_path / "a.bin", "ab") as writer:
+            writer.write(b"def")
+        f.seek(1)
+        assert f.read() == b"bc" and f.read1(10) == b""
+    assert read_regular_bytes(tmp_path / "a.bin", 6) == b"abcdef"

@@ -163,26 +163,15 @@ def _write_r3(path: PathLike, data: np.ndarray) -> None:
 # --- .npy ------------------------------------------------------------------------------------------------------
 
 
-# numpy refuses a header over 10000 bytes, but only once it has allocated and read as many as the header's
-# length field says: up to 4 GiB for a 2.0 file.
-_NPY_MAX_HEADER = 10000
-_NPY_HEADERS = {  # version: (its header length field, numpy's header reader)
-    (1, 0): (struct.Struct("<H"), np.lib.format.read_array_header_1_0),
-    (2, 0): (struct.Struct("<I"), np.lib.format.read_array_header_2_0),
-}
-
-
 def _read_npy(path: PathLike, max_bytes: int) -> np.ndarray:
     with _open(path, max_bytes) as f, _library_errors(path, ".npy file"):
         version = np.lib.format.read_magic(f)
-        if version not in _NPY_HEADERS:  # 3.0 is only for structured dtypes with unicode field names: no volume
+        if version == (1, 0):
+            shape, _, dtype = np.lib.format.read_array_header_1_0(f)
+        elif version == (2, 0):
+            shape, _, dtype = np.lib.format.read_array_header_2_0(f)
+        else:  # 3.0 only exists for structured dtypes with unicode field names, which are no volume anyway
             raise FormatError(f"{path}: unsupported .npy version {version[0]}.{version[1]}")
-        length, read_header = _NPY_HEADERS[version]
-        (header_bytes,) = length.unpack(f.read(length.size))
-        if header_bytes > _NPY_MAX_HEADER:
-            raise FormatError(f"{path}: the .npy header says it is {header_bytes} bytes long, over {_NPY_MAX_HEADER}")
-        f.seek(-length.size, io.SEEK_CUR)
-        shape, _, dtype = read_header(f)
         _check_array(path, shape, dtype, max_bytes)
         f.seek(0)
         array = np.load(f, allow_pickle=False)
