@@ -15,9 +15,7 @@ from app.model import volume as vm
 @pytest.fixture
 def editor(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    e = Editor(clock=VirtualClock())
-    assert e.execute("new 8 6 4")
-    return e
+    return Editor(clock=VirtualClock())
 
 
 def fifo(tmp_path) -> str:

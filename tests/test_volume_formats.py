@@ -466,7 +466,8 @@ def test_a_series_save_cut_short_while_renaming_is_refused_not_mixed(tmp_path, m
     with pytest.raises(FormatError):
         write_volume(tmp_path / "s_%i.png", random_volume(1))
     monkeypatch.undo()
-    refused(tmp_path / "s_%i.png", "s_%i.png.series.json", "not the ones saved together", culprit=f"s_{renamed - 1}.png")
+    message = refused(tmp_path / "s_%i.png", "not the ones saved together", culprit=f"s_{renamed - 1}.png")
+    assert "s_%i.png.series.json" in message
 
 
 def test_a_series_changed_by_another_program_is_refused_until_its_manifest_goes(tmp_path):

@@ -216,12 +216,13 @@ def _check_segments(path: PathLike, f: BinaryIO, keyframe: tifffile.TiffPage, pa
     for page in pages:
         for offset, count in zip(page.dataoffsets, page.databytecounts):
             if offset + count > file_size:
-                raise FormatError(f"{path} is truncated: a TIFF strip or tile ends at byte {offset + count} of {file_size}")
+                raise FormatError(f"{path} is truncated: a TIFF strip or tile ends at byte {offset + count}, "
+                                  f"the file at {file_size}")
             if inflater is None:
                 continue
             f.seek(offset)
             if len(inflater(max_bytes).decompress(f.read(count), size + 1)) > size:
-                raise FormatError(f"{path}: a compressed TIFF strip or tile holds more than the {size} bytes of its page")
+                raise FormatError(f"{path}: a compressed TIFF strip or tile holds more than its {size} bytes")
 
 
 def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
@@ -423,7 +424,9 @@ def _manifest_digests(pattern: PathLike, series: _Series, depth: int) -> list[st
     if not isinstance(digests, list) or not all(isinstance(digest, str) for digest in digests):
         raise FormatError(f"{manifest} is not a valid series manifest: 'sha256' is not a list of digests")
     if len(digests) != depth:
-        raise FormatError(f"cannot read {pattern}: {depth} slices found, {manifest.name} lists {len(digests)}: {_mixed(manifest)}")
+        raise FormatError(
+            f"cannot read {pattern}: {depth} slices found, {manifest.name} lists {len(digests)}: {_mixed(manifest)}"
+        )
     return digests
 
 
