@@ -4,7 +4,11 @@ from __future__ import annotations
 import bz2
 import gzip
 import io
+import os
 import struct
+import threading
+import tracemalloc
+from collections.abc import Callable
 from pathlib import Path
 
 import nrrd
@@ -101,7 +105,7 @@ def test_series_writer_removes_slices_of_a_deeper_volume(tmp_path):
     write_volume(tmp_path / "s_%i.png", random_volume(shape=(5, 7, 5)))
     volume = random_volume(1)
     write_volume(tmp_path / "s_%i.png", volume)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["s_0.png", "s_1.png", "s_2.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s_%i.png.series.json", "s_0.png", "s_1.png", "s_2.png"]
     np.testing.assert_array_equal(read_volume(tmp_path / "s_%i.png"), volume)
 
 
@@ -329,6 +333,156 @@ def test_series_refusals_and_numbering(tmp_path):
     refused(tmp_path / "deep_%i.png", "8-bit", culprit="deep_0.png")
     Image.fromarray(RGB[0]).save(tmp_path / "big_0.png")
     refused(tmp_path / "big_%i.png", "size limit", max_bytes=100)
+
+
+# --- only regular files, read within bounds ---------------------------------------------------------------------
+
+
+def read_without_hanging(path: Path, seconds: float = 5.0) -> str:
+    """read_volume(path)'s FormatError message; a read that blocks fails the test instead of hanging the run."""
+    outcome: dict[str, str] = {}
+
+    def read() -> None:
+        try:
+            read_volume(path)
+        except FormatError as exc:
+            outcome["message"] = str(exc)
+
+    thread = threading.Thread(target=read, daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive():
+        with open(path, "wb"):  # the writer a FIFO's reader waits for: the blocked open returns
+            pass
+        thread.join()
+        pytest.fail(f"reading {path.name} blocked")
+    assert "message" in outcome, f"{path.name} was read as a volume"
+    return outcome["message"]
+
+
+def test_a_fifo_is_refused_without_waiting_for_a_writer(tmp_path):
+    os.mkfifo(tmp_path / "pipe.r3")
+    message = read_without_hanging(tmp_path / "pipe.r3")
+    assert "pipe.r3" in message and "FIFO" in message and "not a regular file" in message
+
+
+@pytest.mark.parametrize("name", ["zero.r3", "zero.npy", "zero.tif", "zero.nrrd"])
+def test_devices_and_folders_are_refused(tmp_path, name):
+    (tmp_path / name).symlink_to("/dev/zero")
+    assert "is a device, not a regular file" in read_without_hanging(tmp_path / name)
+    (tmp_path / f"folder{Path(name).suffix}").mkdir()
+    assert "is a folder, not a regular file" in read_without_hanging(tmp_path / f"folder{Path(name).suffix}")
+
+
+def test_a_file_far_bigger_than_any_volume_within_the_limit_is_refused_unread(tmp_path):
+    save_tiff(tmp_path / "padded.tif", GREY)
+    with open(tmp_path / "padded.tif", "ab") as f:  # tifffile would read past data nobody points to
+        f.write(bytes(2 << 20))
+    refused(tmp_path / "padded.tif", "over the size limit of 1050576 bytes", max_bytes=1000)
+    assert read_volume(tmp_path / "padded.tif").shape == SHAPE + (4,)
+
+
+# --- memory -----------------------------------------------------------------------------------------------------
+
+PEAK_SHAPE = (64, 64, 64)
+PEAK_SLACK = 64 << 10  # bytes: decoders' own buffers and Python objects
+
+
+def traced_peak(read: Callable[[], np.ndarray]) -> tuple[np.ndarray, int]:
+    """read()'s result and the most memory traced while it ran: numpy reports its arrays to tracemalloc."""
+    tracemalloc.start()
+    try:
+        result = read()
+        return result, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+@pytest.mark.parametrize("name, channels, save", [
+    ("gzip.nrrd", (), lambda path, array: save_nrrd(path, array)),
+    ("raw.nrrd", (), lambda path, array: save_nrrd(path, array, "raw")),
+    ("bzip2.nrrd", (3,), lambda path, array: save_nrrd(path, array, "bzip2")),
+    ("grey.npy", (), save_npy),
+    ("rgb.npy", (3,), save_npy),
+    ("grey.tif", (), save_tiff),
+    ("rgb.tif", (3,), save_tiff),
+    ("v.r3", (4,), write_volume),
+    ("s_%i.png", (4,), write_volume),
+])
+def test_a_read_peaks_within_twice_the_volume(tmp_path, name, channels, save):
+    # 8x4096x4096 grey gzip NRRD peaked at 3.5 times its 512 MiB volume: an int64 np.where made the alpha.
+    array = np.random.default_rng(5).integers(0, 3, PEAK_SHAPE + channels, dtype=np.uint8)
+    save(tmp_path / name, array)
+    result, peak = traced_peak(lambda: read_volume(tmp_path / name))
+    assert result.shape == PEAK_SHAPE + (4,)
+    assert peak <= 2 * result.nbytes + PEAK_SLACK, f"peak {peak} for a {result.nbytes}-byte volume"
+
+
+# --- numbered series: pattern and manifest --------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("pattern", ["s_%010i.png", "s_%0500000000i.png", "s_%0" + "9" * 5000 + "i.png"])
+def test_series_number_width_is_capped_before_a_name_is_made(tmp_path, pattern):
+    for action in (lambda: read_volume(tmp_path / pattern), lambda: write_volume(tmp_path / pattern, random_volume())):
+        with pytest.raises(FormatError, match="padded to 9 digits at most") as info:
+            traced_peak(action)
+        assert pattern[:6] in str(info.value)
+    _, peak = traced_peak(lambda: refused(tmp_path / pattern, "%09i"))
+    assert peak < 1 << 20  # %0500000000i used to build 500-million-character names
+    write_volume(tmp_path / "s_%09i.png", random_volume())
+    assert (tmp_path / "s_000000002.png").is_file()
+    np.testing.assert_array_equal(read_volume(tmp_path / "s_%09i.png"), random_volume())
+
+
+class FailAfter:
+    """Stands in for an os function: the first `calls` calls go through, then every call fails as a full disk."""
+
+    def __init__(self, real: Callable, calls: int) -> None:
+        self.real, self.calls = real, calls
+
+    def __call__(self, *args):
+        self.calls -= 1
+        if self.calls < 0:
+            raise OSError(28, "No space left on device")
+        return self.real(*args)
+
+
+@pytest.mark.parametrize("written", [0, 1, 3])
+def test_a_series_save_that_fails_writing_leaves_the_old_series(tmp_path, monkeypatch, written):
+    old = random_volume(shape=(5, 7, 5))
+    write_volume(tmp_path / "s_%i.png", old)
+    monkeypatch.setattr(atomic.os, "fsync", FailAfter(os.fsync, written))  # the disk fills after `written` slices
+    with pytest.raises(FormatError, match="No space left on device"):
+        write_volume(tmp_path / "s_%i.png", random_volume(1))
+    monkeypatch.undo()
+    np.testing.assert_array_equal(read_volume(tmp_path / "s_%i.png"), old)
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
+
+
+@pytest.mark.parametrize("renamed", [1, 2, 3])  # the manifest, then slices 0 and 1
+def test_a_series_save_cut_short_while_renaming_is_refused_not_mixed(tmp_path, monkeypatch, renamed):
+    write_volume(tmp_path / "s_%i.png", random_volume(shape=(5, 7, 5)))
+    monkeypatch.setattr(atomic.os, "replace", FailAfter(os.replace, renamed))  # as if the power went
+    with pytest.raises(FormatError):
+        write_volume(tmp_path / "s_%i.png", random_volume(1))
+    monkeypatch.undo()
+    message = refused(tmp_path / "s_%i.png", "not the ones saved together", culprit=f"s_{renamed - 1}.png")
+    assert "s_%i.png.series.json" in message
+
+
+def test_a_series_changed_by_another_program_is_refused_until_its_manifest_goes(tmp_path):
+    volume = random_volume()
+    write_volume(tmp_path / "s_%i.png", volume)
+    Image.fromarray(volume[1, ..., ::-1].copy()).save(tmp_path / "s_1.png")
+    refused(tmp_path / "s_%i.png", "is not the slice s_%i.png.series.json lists", "delete s_%i.png.series.json",
+            culprit="s_1.png")
+    write_volume(tmp_path / "s_%d.png", volume)  # the same files by another spelling: the same manifest
+    Image.fromarray(volume[0]).save(tmp_path / "s_3.png")
+    refused(tmp_path / "s_%i.png", "4 slices found, s_%i.png.series.json lists 3")
+    (tmp_path / "s_%i.png.series.json").unlink()
+    assert read_volume(tmp_path / "s_%i.png").shape == (4, 7, 5, 4)
+    write_file(tmp_path / "s_%i.png.series.json", b'{"format": "shadelab-image-series", "version": 1, "sha256": 3}')
+    refused(tmp_path / "s_%i.png", "not a valid series manifest", culprit="s_%i.png.series.json")
 
 
 # --- atomic writes ---------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from app.console import files
 from app.console.registry import CommandError, Cvar
 from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
+from app.model import volume as volume_model
 from app.model.camera3d import OrbitCamera
 from app.model.render_modes import MODES
 from app.model.volume import AXES, MAX_COORD, MAX_SIDE, Volume
@@ -114,7 +115,8 @@ def register(editor: "Editor") -> None:
     def load(path: str) -> None:
         found = files.find(path, console) if "%" not in path else None  # a series names its slices
         try:
-            data = read_volume(found or files.readable(console, path))
+            # the model's limit, before reading
+            data = read_volume(found or files.readable(console, path), max_bytes=volume_model.MAX_BYTES)
         except FormatError as exc:
             raise CommandError(str(exc)) from None
         replace(data, f"loaded {path}")

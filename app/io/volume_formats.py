@@ -2,7 +2,8 @@
 
 A volume is a C-contiguous uint8 array (depth, height, width, 4): z, y, x order, RGBA, every side 1..4096.
 Readers validate the whole file and return a fresh array or raise FormatError (a ValueError whose message names
-the file); the voxel size is checked against `max_bytes` before any voxel data is allocated or read. Writers go
+the file); the voxel size is checked against `max_bytes` before any voxel data is allocated or read, and a read
+peaks at twice the returned volume's size. Only regular files are opened (app.io.regular_file). Writers go
 through app.io.atomic, so a failed save never replaces a good file with a half-written one.
 
 Greyscale arrays (.npy, TIFF, NRRD) are densities: grey goes into R, G and B and alpha is 255 where the voxel is
@@ -12,8 +13,11 @@ unless the image itself says which pixels are transparent.
 from __future__ import annotations
 
 import bz2
+import hashlib
 import io
+import json
 import logging
+import lzma
 import math
 import os
 import re
@@ -21,6 +25,7 @@ import struct
 import zlib
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
@@ -29,7 +34,9 @@ import numpy as np
 import tifffile
 from PIL import Image, UnidentifiedImageError
 
-from app.io.atomic import write_bytes
+from app.io.atomic import Batch, write_bytes
+from app.io.json_file import read_versioned
+from app.io.regular_file import open_regular
 
 MAX_SIDE = 4096
 DEFAULT_MAX_BYTES = 2 * 2**30
@@ -44,9 +51,11 @@ class FormatError(ValueError):
 # --- shared checks ---------------------------------------------------------------------------------------------
 
 
-def _open(path: PathLike) -> BinaryIO:
+def _open(path: PathLike, max_bytes: int) -> BinaryIO:
+    """path, if it is a regular file of at most 2 * max_bytes + 1 MiB: no volume within max_bytes needs more (data
+    that compression made bigger, headers), so a bigger file is refused unread. Each format's sizes bound its reads."""
     try:
-        return open(path, "rb")
+        return open_regular(path, 2 * max_bytes + (1 << 20))
     except OSError as exc:
         raise FormatError(f"cannot read {path}: {exc.strerror or exc}") from None
 
@@ -87,15 +96,19 @@ def _check_array(path: PathLike, shape: tuple[int, ...], dtype: np.dtype, max_by
 
 
 def _to_rgba(array: np.ndarray) -> np.ndarray:
+    """The RGBA volume is the only allocation: every step is uint8 and in place (np.where(array > 0, 255, 0)
+    would make an int64 array twice the RGBA volume's size)."""
     if array.ndim == 4 and array.shape[3] == 4:
         return np.ascontiguousarray(array)
     rgba = np.empty(array.shape[:3] + (4,), np.uint8)
+    alpha = rgba[..., 3]
     if array.ndim == 3:
         rgba[..., :3] = array[..., None]
-        rgba[..., 3] = np.where(array > 0, 255, 0)
+        np.minimum(array, 1, out=alpha)
+        alpha *= 255
     else:
         rgba[..., :3] = array
-        rgba[..., 3] = 255
+        alpha[...] = 255
     return rgba
 
 
@@ -130,7 +143,7 @@ _R3_HEADER = struct.Struct("<2sHHH")
 
 
 def _read_r3(path: PathLike, max_bytes: int) -> np.ndarray:
-    with _open(path) as f:
+    with _open(path, max_bytes) as f:
         header = f.read(_R3_HEADER.size)
         if header[:2] != b"R3":
             raise FormatError(f"{path} is not an R3 volume: it does not start with 'R3'")
@@ -151,7 +164,7 @@ def _write_r3(path: PathLike, data: np.ndarray) -> None:
 
 
 def _read_npy(path: PathLike, max_bytes: int) -> np.ndarray:
-    with _open(path) as f, _library_errors(path, ".npy file"):
+    with _open(path, max_bytes) as f, _library_errors(path, ".npy file"):
         version = np.lib.format.read_magic(f)
         if version == (1, 0):
             shape, _, dtype = np.lib.format.read_array_header_1_0(f)
@@ -183,6 +196,35 @@ class _LogRecords(logging.Handler):
         self.messages.append(record.getMessage())
 
 
+# Without imagecodecs, tifffile inflates a zlib or LZMA segment whole, whatever size its page gives it; an LZMA
+# decoder also allocates the dictionary its stream declares (8 MiB by default, up to 4 GiB), here within max_bytes.
+_TIFF_INFLATERS = {  # compression: a decompressor within max_bytes
+    **dict.fromkeys((8, 32946, 50013), lambda max_bytes: zlib.decompressobj()),
+    34925: lambda max_bytes: lzma.LZMADecompressor(memlimit=max_bytes),
+}
+
+
+def _check_segments(path: PathLike, f: BinaryIO, keyframe: tifffile.TiffPage, pages: list, max_bytes: int) -> None:
+    """tifffile reads as many bytes as a strip's or tile's byte count says and inflates a compressed one whole (64 MiB
+    of zeros fit in a 64 KiB zlib strip). So each must lie within the file, its declared size (a tile may be declared
+    far larger than its image) within max_bytes, and a compressed one must inflate to no more than that."""
+    size = math.prod(keyframe.chunks) * keyframe.dtype.itemsize
+    if size > max_bytes:
+        raise FormatError(f"{path}: a TIFF tile or strip of {size} bytes is over the size limit of {max_bytes} bytes")
+    inflater = _TIFF_INFLATERS.get(keyframe.compression)
+    file_size = os.fstat(f.fileno()).st_size
+    for page in pages:
+        for offset, count in zip(page.dataoffsets, page.databytecounts):
+            if offset + count > file_size:
+                raise FormatError(f"{path} is truncated: a TIFF strip or tile ends at byte {offset + count}, "
+                                  f"the file at {file_size}")
+            if inflater is None:
+                continue
+            f.seek(offset)
+            if len(inflater(max_bytes).decompress(f.read(count), size + 1)) > size:
+                raise FormatError(f"{path}: a compressed TIFF strip or tile holds more than its {size} bytes")
+
+
 def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
     """Pages are z slices. 16-bit and float TIFFs are refused rather than scaled: the right mapping is the user's call.
 
@@ -193,7 +235,7 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
     logger = tifffile.logger()
     logger.addHandler(log)
     try:
-        with _open(path) as f, _library_errors(path, "TIFF file"), tifffile.TiffFile(f) as tif:
+        with _open(path, max_bytes) as f, _library_errors(path, "TIFF file"), tifffile.TiffFile(f) as tif:
             if not tif.series:
                 raise FormatError(f"{path} is not a valid TIFF file: it holds no images")
             if len(tif.series) != 1:
@@ -215,14 +257,18 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
             photometric = series.keyframe.photometric
             if photometric not in (tifffile.PHOTOMETRIC.MINISBLACK, tifffile.PHOTOMETRIC.RGB):
                 raise FormatError(f"{path}: TIFF colour model {photometric.name} is not supported (greyscale or RGB/RGBA)")
-            array = series.asarray()
+            _check_segments(path, f, series.keyframe, series.pages, max_bytes)
+            array = series.asarray(maxworkers=1)  # one segment decoded at a time: _check_segments bounds each
     finally:
         logger.removeHandler(log)
     if log.messages:
         raise FormatError(f"{path} is a damaged TIFF file: {log.messages[0]}")
     if "S" in series.axes:
         array = np.moveaxis(array, series.axes.index("S"), -1)
-    return _to_rgba(array.reshape(volume_shape))
+    # A statement of its own: should the reshape copy (page axes merged across planar samples), the original is
+    # freed before _to_rgba allocates the RGBA volume.
+    array = array.reshape(volume_shape)
+    return _to_rgba(array)
 
 
 def _write_tiff(path: PathLike, data: np.ndarray) -> None:
@@ -268,7 +314,7 @@ def _nrrd_inflate(path: PathLike, f: BinaryIO, encoding: str, n: int) -> bytearr
 
 def _read_nrrd(path: PathLike, max_bytes: int) -> np.ndarray:
     """Attached raw, gzip or bzip2 data; pynrrd parses the header, the payload is read here with bounds."""
-    with _open(path) as f:
+    with _open(path, max_bytes) as f:
         lines = _nrrd_header_lines(path, f)
         with _library_errors(path, "NRRD header"):
             header = nrrd.read_header(lines)
@@ -305,21 +351,54 @@ def _write_nrrd(path: PathLike, data: np.ndarray) -> None:
 # --- numbered image series -------------------------------------------------------------------------------------
 
 _SLICE_NUMBER = re.compile(r"%(0\d+)?[id]")
+_MAX_NUMBER_WIDTH = 9  # 4096 slices need 4 digits; %0500000000i would only cost memory, 500 MB for each name
 _IMAGE_FORMATS = {".png": "PNG", ".bmp": "BMP", ".jpg": "JPEG", ".jpeg": "JPEG", ".gif": "GIF", ".tga": "TGA"}
 _PIL_FORMATS = ("BMP", "PNG", "JPEG", "GIF", "TGA")
 _NO_ALPHA = ("JPEG", "BMP")  # Pillow writes BMP alpha but reads it back as RGB, as most BMP readers do
+_MANIFEST_FORMAT = "shadelab-image-series"
 
 
-def _slice_paths(pattern: PathLike, action: str) -> Callable[[int], Path]:
-    """slice_%i.png, slice_%d.png or slice_%03i.png -> the path of slice z; only the file name may hold the number."""
-    path = Path(pattern)
-    matches = list(_SLICE_NUMBER.finditer(path.name))
-    if len(matches) != 1:
-        raise FormatError(
-            f"cannot {action} {pattern}: image volumes are numbered series, put one %i in the file name (e.g. slice_%i.png)"
-        )
-    head, tail, width = path.name[: matches[0].start()], path.name[matches[0].end() :], int(matches[0][1] or 0)
-    return lambda z: path.with_name(f"{head}{str(z).zfill(width)}{tail}")
+@dataclass(frozen=True)
+class _Series:
+    """slice_%i.png, slice_%d.png or slice_%03i.png: slice z is folder/head + z, zero-padded to width, + tail."""
+
+    folder: Path
+    head: str
+    width: int
+    tail: str
+
+    @classmethod
+    def parse(cls, pattern: PathLike, action: str) -> _Series:
+        """Only the file name may hold the number."""
+        path = Path(pattern)
+        matches = list(_SLICE_NUMBER.finditer(path.name))
+        if len(matches) != 1:
+            raise FormatError(
+                f"cannot {action} {pattern}: image volumes are numbered series, put one %i in the file name (e.g. slice_%i.png)"
+            )
+        width = (matches[0][1] or "0").lstrip("0") or "0"
+        if len(width) > len(str(_MAX_NUMBER_WIDTH)) or int(width) > _MAX_NUMBER_WIDTH:  # int() of a short string only
+            raise FormatError(
+                f"cannot {action} {pattern}: slice numbers are padded to {_MAX_NUMBER_WIDTH} digits at most "
+                f"(%0{_MAX_NUMBER_WIDTH}i)"
+            )
+        return cls(path.parent, path.name[: matches[0].start()], int(width), path.name[matches[0].end() :])
+
+    def slice(self, z: int) -> Path:
+        return self.folder / f"{self.head}{str(z).zfill(self.width)}{self.tail}"
+
+    @property
+    def manifest(self) -> Path:
+        """One name for the pattern's spellings of the same files: slice_%i.png and slice_%d.png share it."""
+        number = f"%0{self.width}i" if self.width > 1 else "%i"
+        return self.folder / f"{self.head}{number}{self.tail}.series.json"
+
+    def depth(self, start: int = 0) -> int:
+        """The first missing slice number from start on, at most MAX_SIDE + 1 (one past, so _check_shape says why)."""
+        depth = start
+        while depth <= MAX_SIDE and self.slice(depth).is_file():
+            depth += 1
+        return depth
 
 
 def _open_image(path: Path, f: BinaryIO) -> Image.Image:
@@ -329,60 +408,102 @@ def _open_image(path: Path, f: BinaryIO) -> Image.Image:
         raise FormatError(f"{path} is not a {', '.join(_PIL_FORMATS[:-1])} or {_PIL_FORMATS[-1]} image") from None
 
 
+def _mixed(manifest: Path) -> str:
+    return (
+        "the slices are not the ones saved together (a save that did not finish, or slices changed by another "
+        f"program); delete {manifest.name} to read them as they are"
+    )
+
+
+def _manifest_digests(pattern: PathLike, series: _Series, depth: int) -> list[str] | None:
+    """The SHA-256 of each slice file, as the series' manifest lists them; None for a series without one."""
+    manifest = series.manifest
+    if not manifest.is_file():  # series written by other programs have none
+        return None
+    digests = read_versioned(manifest, _MANIFEST_FORMAT, 1, FormatError).get("sha256")
+    if not isinstance(digests, list) or not all(isinstance(digest, str) for digest in digests):
+        raise FormatError(f"{manifest} is not a valid series manifest: 'sha256' is not a list of digests")
+    if len(digests) != depth:
+        raise FormatError(
+            f"cannot read {pattern}: {depth} slices found, {manifest.name} lists {len(digests)}: {_mixed(manifest)}"
+        )
+    return digests
+
+
+def _check_digest(path: Path, f: BinaryIO, digest: str, manifest: Path) -> None:
+    sha256 = hashlib.sha256()
+    while chunk := f.read(1 << 20):
+        sha256.update(chunk)
+    if sha256.hexdigest() != digest:
+        raise FormatError(f"{path} is not the slice {manifest.name} lists: {_mixed(manifest)}")
+    f.seek(0)
+
+
 def _read_series(pattern: PathLike, max_bytes: int) -> np.ndarray:
     """Slices numbered from 0 up to the first missing number; each image is one z slice, its top row y = 0.
 
-    Any of BMP, PNG, JPEG, GIF (first frame) and TGA is read whatever the extension; 16-bit and float images are refused.
+    Any of BMP, PNG, JPEG, GIF (first frame) and TGA is read whatever the extension; 16-bit and float images are
+    refused. A series with a manifest (Shadelab writes one) must be exactly the slices it lists.
     """
-    slice_path = _slice_paths(pattern, "read")
-    depth = 0
-    while depth <= MAX_SIDE and slice_path(depth).is_file():  # one past the limit, so _check_shape says why
-        depth += 1
+    series = _Series.parse(pattern, "read")
+    depth = series.depth()
     if depth == 0:
-        raise FormatError(f"cannot read {pattern}: slice 0 ({slice_path(0)}): No such file or directory")
+        raise FormatError(f"cannot read {pattern}: slice 0 ({series.slice(0)}): No such file or directory")
+    digests = _manifest_digests(pattern, series, depth)
     volume = None
     for z in range(depth):
-        path = slice_path(z)
-        with _open(path) as f, _library_errors(path, "image"), _open_image(path, f) as image:
-            if image.mode.startswith(("I", "F")):
-                raise FormatError(f"{path}: {image.mode} images are not supported; save the slices as 8-bit images")
-            if volume is None:
-                _check_shape(pattern, (depth, image.height, image.width), max_bytes)
-                volume = np.empty((depth, image.height, image.width, 4), np.uint8)
-            elif image.size != volume.shape[2:0:-1]:
-                raise FormatError(
-                    f"{path}: slice is {image.width}x{image.height}, "
-                    f"but slice 0 ({slice_path(0)}) is {volume.shape[2]}x{volume.shape[1]}"
-                )
-            volume[z] = np.asarray(image.convert("RGBA"))
+        path = series.slice(z)
+        with _open(path, max_bytes) as f:
+            if digests is not None:
+                _check_digest(path, f, digests[z], series.manifest)
+            with _library_errors(path, "image"), _open_image(path, f) as image:
+                if image.mode.startswith(("I", "F")):
+                    raise FormatError(f"{path}: {image.mode} images are not supported; save the slices as 8-bit images")
+                if volume is None:
+                    _check_shape(pattern, (depth, image.height, image.width), max_bytes)
+                    volume = np.empty((depth, image.height, image.width, 4), np.uint8)
+                elif image.size != volume.shape[2:0:-1]:
+                    raise FormatError(
+                        f"{path}: slice is {image.width}x{image.height}, "
+                        f"but slice 0 ({series.slice(0)}) is {volume.shape[2]}x{volume.shape[1]}"
+                    )
+                volume[z] = np.asarray(image.convert("RGBA"))
     return volume
 
 
+def _encode_slice(rgba: np.ndarray, image_format: str) -> bytes:
+    image = Image.fromarray(rgba)
+    buffer = io.BytesIO()
+    if image_format in _NO_ALPHA:
+        image = image.convert("RGB")
+    # Full-resolution chroma: 4:2:0 would smear colour across neighbouring voxels.
+    options = {"quality": 95, "subsampling": 0} if image_format == "JPEG" else {}
+    image.save(buffer, image_format, **options)
+    return buffer.getvalue()
+
+
 def _write_series(pattern: PathLike, data: np.ndarray) -> None:
-    """One file per z slice, in the format of the pattern's extension, each written atomically.
+    """One file per z slice, in the format of the pattern's extension, and a manifest of their digests.
 
     JPEG is lossy and, like BMP, keeps no alpha (it reads back as 255); GIF keeps at most 256 colours and on/off
-    transparency. Higher-numbered slices left over from a deeper volume are deleted: they would read back as part of
+    transparency. Every slice is written to a temporary file first, so a save that fails there (a full disk)
+    leaves the old series as it was. The renames after that are one file at a time, so the manifest goes first:
+    a series a crash leaves half renamed fails the reader's manifest check instead of loading as a mix of two
+    volumes. Higher-numbered slices left over from a deeper volume are deleted: they would read back as part of
     this one.
     """
-    slice_path = _slice_paths(pattern, "write")
+    series = _Series.parse(pattern, "write")
     image_format = _IMAGE_FORMATS[Path(pattern).suffix.lower()]
-    encoded = []
-    for rgba in data:  # encode every slice before the first file changes
-        image = Image.fromarray(rgba)
-        buffer = io.BytesIO()
-        if image_format in _NO_ALPHA:
-            image = image.convert("RGB")
-        # Full-resolution chroma: 4:2:0 would smear colour across neighbouring voxels.
-        options = {"quality": 95, "subsampling": 0} if image_format == "JPEG" else {}
-        image.save(buffer, image_format, **options)
-        encoded.append(buffer.getvalue())
-    for z, blob in enumerate(encoded):
-        write_bytes(slice_path(z), blob)
-    z = len(encoded)
-    while slice_path(z).is_file():
-        slice_path(z).unlink()
-        z += 1
+    encoded = [_encode_slice(rgba, image_format) for rgba in data]  # every slice before the first file changes
+    manifest = {"format": _MANIFEST_FORMAT, "version": 1, "sha256": [hashlib.sha256(b).hexdigest() for b in encoded]}
+    with Batch() as slices, Batch() as index:
+        for z, blob in enumerate(encoded):
+            slices.stage(series.slice(z), blob)
+        index.stage(series.manifest, json.dumps(manifest, indent=1).encode())
+        index.commit()
+        for z in range(len(encoded), series.depth(len(encoded))):
+            series.slice(z).unlink()
+        slices.commit()
 
 
 # --- dispatch --------------------------------------------------------------------------------------------------

@@ -6,7 +6,7 @@ import math
 import operator
 import os
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from functools import lru_cache, reduce
 from itertools import islice
@@ -19,12 +19,15 @@ MAX_SIDE = 4096          # voxels a side; also the largest brush
 MAX_COORD = 1 << 24      # stroke points beyond this are no mouse position: refuse before the line maths overflows
 UNDO_STEPS = 256
 UNDO_BYTES = 512 << 20
+_SMOOTH_TILE = 1 << 15   # voxels smoothed at once: their uint16 temporaries stay near 1 MiB
 CHANGE_RECORDS = 4096    # consumers further behind than this many changes get the full box
 _ARRAY_AXIS = {"z": 0, "y": 1, "x": 2}          # axis name -> axis of Volume.data
 _ROT90_AXES = {"z": (2, 1), "x": (1, 0), "y": (0, 2)}  # np.rot90 axes turning x->y, y->z, z->x respectively
 
 
 def _default_max_bytes() -> int:
+    """4 GiB, or half the free memory if less: the biggest edits (smooth, a rotation, loading a file) hold a
+    second copy of the volume while they run, and nothing more than small fixed-size temporaries."""
     limit = 4 << 30
     try:
         avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
@@ -161,6 +164,30 @@ def _bounds(mask: np.ndarray) -> list[tuple[int, int]] | None:
         hit = np.flatnonzero(mask.any(axis=tuple(i for i in range(mask.ndim) if i != ax)))
         out.append((int(hit[0]), int(hit[-1]) + 1))
     return out
+
+
+def _mean27(near: np.ndarray) -> np.ndarray:
+    """The rounded mean of each 3x3x3 neighbourhood inside `near` (uint8, a one-voxel border around the result).
+
+    Summed one axis at a time into uint16 (27 * 255 fits), in place where it can be: at most two sums exist at once.
+    """
+    z_sum = np.add(near[:-2], near[1:-1], dtype=np.uint16)
+    z_sum += near[2:]
+    zy_sum = np.add(z_sum[:, :-2], z_sum[:, 1:-1])
+    zy_sum += z_sum[:, 2:]
+    del z_sum
+    total = np.add(zy_sum[:, :, :-2], zy_sum[:, :, 1:-1])
+    total += zy_sum[:, :, 2:]
+    del zy_sum
+    total += 13  # round to nearest; n/27 is never a tie
+    total //= 27
+    return total.astype(np.uint8)
+
+
+def _within(inner: Box, outer: Box) -> tuple[slice, slice, slice]:
+    """inner's (z, y, x) slices into an array that holds outer."""
+    return (slice(inner.z0 - outer.z0, inner.z1 - outer.z0), slice(inner.y0 - outer.y0, inner.y1 - outer.y0),
+            slice(inner.x0 - outer.x0, inner.x1 - outer.x0))
 
 
 @lru_cache(maxsize=64)
@@ -324,33 +351,24 @@ class Volume:
         return self._paint_plane(axis, index, plane, labels == labels[v, u], colour, 0, 0)
 
     def smooth(self, box: Box | None = None) -> Box | None:
-        """3x3x3 box filter over `box` (default: all), reading neighbours beyond it, edge-clamped at the border."""
+        """3x3x3 box filter over `box` (default: all), reading neighbours beyond it, edge-clamped at the border.
+
+        Memory: the volume, one copy of the box that changes (the undo step) and one tile's temporaries. A first
+        pass finds that box without keeping results; the second writes it tile by tile, its neighbours coming
+        from the undo copy where earlier tiles have already overwritten them.
+        """
         self._settle_preview()
         full = self.full_box()
         box = full if box is None else box.intersect(full)
         if box.empty:
             return None
-        w, h, d = self.size
-        ys = np.clip(np.arange(box.y0 - 1, box.y1 + 1), 0, h - 1)
-        xs = np.clip(np.arange(box.x0 - 1, box.x1 + 1), 0, w - 1)
-        bw, bh, bd = box.shape
-        out = np.empty((bd, bh, bw, 4), dtype=np.uint8)
-        step = max(1, (1 << 22) // (bw * bh))  # z layers per slab: bounds the uint16 temporaries
-        for z in range(box.z0, box.z1, step):
-            z1 = min(z + step, box.z1)
-            zs = np.clip(np.arange(z - 1, z1 + 1), 0, d - 1)
-            s = self.data[np.ix_(zs, ys, xs)].astype(np.uint16)  # 27 * 255 fits
-            s = s[:-2] + s[1:-1] + s[2:]
-            s = s[:, :-2] + s[:, 1:-1] + s[:, 2:]
-            s = s[:, :, :-2] + s[:, :, 1:-1] + s[:, :, 2:]
-            out[z - box.z0:z1 - box.z0] = (s + 13) // 27  # round to nearest; n/27 is never a tie
-        old = self.data[box.slices()]
-        hit = _bounds((out != old).any(-1))
-        if hit is None:
+        changed = self._smooth_changes(box)
+        if changed is None:
             return None
-        (z0, z1), (y0, y1), (x0, x1) = hit
-        changed = Box(box.x0 + x0, box.y0 + y0, box.z0 + z0, box.x0 + x1, box.y0 + y1, box.z0 + z1)
-        return self._patch(changed, out[z0:z1, y0:y1, x0:x1])
+        before = self.data[changed.slices()].copy()
+        for tile, mean in self._smoothed_tiles(changed, before):
+            self.data[tile.slices()] = mean
+        return self._record(changed, before)
 
     def rotate(self, axis: str, turns: int = 1) -> None:
         """Quarter turns about an axis, counter-clockwise looking from +axis towards the origin."""
@@ -507,6 +525,46 @@ class Volume:
             np.add.at(diff, base + np.minimum(b[keep], u1), -1)
         cover = np.cumsum(diff.reshape(v1 - v0, width), axis=1)[:, :-1] > 0
         return cover, u0, v0
+
+    def _smooth_changes(self, box: Box) -> Box | None:
+        """The part of `box` that smoothing changes, None if nothing."""
+        bw, bh, bd = box.shape
+        z_hit, y_hit, x_hit = np.zeros(bd, bool), np.zeros(bh, bool), np.zeros(bw, bool)
+        for tile, mean in self._smoothed_tiles(box):
+            differs = (mean != self.data[tile.slices()]).any(-1)
+            z_hit[tile.z0 - box.z0:tile.z1 - box.z0] |= differs.any((1, 2))
+            y_hit[tile.y0 - box.y0:tile.y1 - box.y0] |= differs.any((0, 2))
+            x_hit |= differs.any((0, 1))  # every tile spans the box's width
+        if not z_hit.any():
+            return None
+        (z0, z1), (y0, y1), (x0, x1) = (_bounds(hit)[0] for hit in (z_hit, y_hit, x_hit))
+        return Box(box.x0 + x0, box.y0 + y0, box.z0 + z0, box.x0 + x1, box.y0 + y1, box.z0 + z1)
+
+    def _smoothed_tiles(self, box: Box, before: np.ndarray | None = None) -> Iterator[tuple[Box, np.ndarray]]:
+        """(tile, its smoothed voxels) for tiles of `box` of at most _SMOOTH_TILE voxels, in z, y order; `before`,
+        when given, holds the original voxels of `box`, which the caller is overwriting tile by tile."""
+        bw, bh, _ = box.shape
+        rows = max(1, min(bh, _SMOOTH_TILE // bw))
+        layers = max(1, _SMOOTH_TILE // (bw * bh)) if rows == bh else 1
+        for z in range(box.z0, box.z1, layers):
+            for y in range(box.y0, box.y1, rows):
+                tile = Box(box.x0, y, z, box.x1, min(y + rows, box.y1), min(z + layers, box.z1))
+                yield tile, _mean27(self._neighbourhood(tile, box, before))
+
+    def _neighbourhood(self, tile: Box, box: Box, before: np.ndarray | None) -> np.ndarray:
+        """The voxels `tile` is smoothed from: one more on every side, the border repeated beyond the volume's
+        edge; the voxels of `box` as `before` holds them, when given."""
+        around = Box(tile.x0 - 1, tile.y0 - 1, tile.z0 - 1, tile.x1 + 1, tile.y1 + 1, tile.z1 + 1)
+        inside = around.intersect(self.full_box())
+        region = self.data[inside.slices()]
+        if before is not None:
+            region = region.copy()
+            restored = inside.intersect(box)
+            region[_within(restored, inside)] = before[_within(restored, box)]
+        w, h, d = self.size
+        edges = [(int(lo == 0), int(hi == n)) for lo, hi, n in ((tile.z0, tile.z1, d), (tile.y0, tile.y1, h),
+                                                                (tile.x0, tile.x1, w))]
+        return np.pad(region, edges + [(0, 0)], mode="edge") if any(map(any, edges)) else region
 
     def _paint_plane(self, axis: str, index: int, region: np.ndarray, mask: np.ndarray,
                      colour: np.ndarray, u0: int, v0: int) -> Box | None:
