@@ -55,8 +55,8 @@ def scene_with(keys: tuple, value) -> dict:
     ((("ambient",), "dark"), "ambient: expected a list, got a string"),
     ((("background",), ""), "background: expected 1 to 1024 characters, got 0"),
     ((("background",), "x" * 5000), "background: expected 1 to 1024 characters, got 5000"),
-    ((("background",), "/dev/zero"), "background: cannot read image /dev/zero: not a regular file"),
-    ((("normal_map",), "/"), "normal_map: cannot read image /: not a regular file"),
+    ((("background",), "/dev/zero"), "background: cannot read image /dev/zero: is a device, not a regular file"),
+    ((("normal_map",), "/"), "normal_map: cannot read image /: is a folder, not a regular file"),
     ((("lights",), [{}] * (scene2d.MAX_LIGHTS + 1)), "lights: expected at most 256 lights, got 257"),
 ])
 def test_a_2d_scene_with_a_bad_field_is_refused_by_its_path(editor, tmp_path, change, needle):
@@ -72,7 +72,7 @@ def test_a_texture_that_is_a_fifo_is_refused_without_blocking(editor, tmp_path):
     data = scene_with(("lights", 0, "texture"), str(fifo))
     data["lights"][0]["kind"] = "textured"
     path.write_text(json.dumps(data))
-    refused(editor, "lighting2d", path, f"lights[0].texture: cannot read image {fifo}: not a regular file")
+    refused(editor, "lighting2d", path, f"lights[0].texture: cannot read image {fifo}: is a FIFO (named pipe), not a regular file")
 
 
 HEADER = '{"format": "shadelab.snowflake", "version": 1, '
@@ -113,7 +113,8 @@ def test_a_scene_path_that_is_no_regular_file_or_too_large_is_refused_unread(edi
         os.mkfifo(path)  # no writer: a blocking open would hang here
     if kind == "large":
         path.write_text(HEADER + '"flakes": [], "pad": "' + " " * json_file.MAX_BYTES + '"}')
-    needle = "larger than 8,388,608 bytes" if kind == "large" else "not a regular file"
+    needle = {"device": "is a device, not a regular file", "fifo": "is a FIFO (named pipe), not a regular file",
+              "folder": "is a folder, not a regular file", "large": "the file is over the size limit of 8388608 bytes"}[kind]
     for workspace in ("snowflake", "lighting2d"):
         refused(editor, workspace, path, f"cannot read {path}: {needle}")
 

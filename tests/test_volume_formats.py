@@ -482,7 +482,7 @@ def test_a_series_changed_by_another_program_is_refused_until_its_manifest_goes(
     (tmp_path / "s_%i.png.series.json").unlink()
     assert read_volume(tmp_path / "s_%i.png").shape == (4, 7, 5, 4)
     write_file(tmp_path / "s_%i.png.series.json", b'{"format": "shadelab-image-series", "version": 1, "sha256": 3}')
-    refused(tmp_path / "s_%i.png", "not a valid series manifest", culprit="s_%i.png.series.json")
+    refused(tmp_path / "s_%i.png", "sha256: expected a list, got a number", culprit="s_%i.png.series.json")
 
 
 # --- atomic writes ---------------------------------------------------------------------------------------------

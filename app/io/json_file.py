@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterable
 import fastjsonschema
 from fastjsonschema import JsonSchemaValueException
 
-from app.io._regular import read_regular
+from app.io.regular_file import read_regular_bytes
 
 MAX_BYTES = 8 << 20  # 150,000 points as the editor saves them; parsing a hostile file this size peaks near 140 MB
 MAX_DIGITS = 40  # an integer literal longer than this is no coordinate or count (and Python caps them at 4300)
@@ -50,7 +50,7 @@ def read_versioned(path: str | os.PathLike, fmt: str, version: int, error: type[
     """The file's object, once it parsed, names `fmt` at `version` and passed `validator`; otherwise
     `error` saying why (the path first)."""
     try:
-        raw = read_regular(path, MAX_BYTES)
+        raw = read_regular_bytes(path, MAX_BYTES)
     except OSError as exc:
         raise error(f"cannot read {path}: {exc.strerror}") from None
     try:

@@ -9,7 +9,7 @@ import os
 
 import numpy as np
 
-from app.io._regular import read_regular
+from app.io.regular_file import read_regular_bytes
 from app.io.png import decode_png
 from app.model.lighting2d import Lighting2DError
 
@@ -81,7 +81,7 @@ def _load(name: str, mtime: float) -> np.ndarray:
         image = BUILTINS[key]()
     else:
         try:
-            image = decode_png(read_regular(name, MAX_IMAGE_BYTES))
+            image = decode_png(read_regular_bytes(name, MAX_IMAGE_BYTES))
         except OSError as exc:
             raise Lighting2DError(f"cannot read image {name}: {exc.strerror or exc}") from None
     image.setflags(write=False)

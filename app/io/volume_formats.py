@@ -35,7 +35,7 @@ import tifffile
 from PIL import Image, UnidentifiedImageError
 
 from app.io.atomic import Batch, write_bytes
-from app.io.json_file import read_versioned
+from app.io.json_file import array, read_versioned, validator
 from app.io.regular_file import open_regular
 
 MAX_SIDE = 4096
@@ -408,6 +408,10 @@ def _open_image(path: Path, f: BinaryIO) -> Image.Image:
         raise FormatError(f"{path} is not a {', '.join(_PIL_FORMATS[:-1])} or {_PIL_FORMATS[-1]} image") from None
 
 
+_MANIFEST_SCHEMA = validator({"sha256": array({"type": "string", "pattern": "^[0-9a-f]{64}$"}, MAX_SIDE, 1,
+                                            "digests")}, required=["sha256"])
+
+
 def _mixed(manifest: Path) -> str:
     return (
         "the slices are not the ones saved together (a save that did not finish, or slices changed by another "
@@ -420,9 +424,7 @@ def _manifest_digests(pattern: PathLike, series: _Series, depth: int) -> list[st
     manifest = series.manifest
     if not manifest.is_file():  # series written by other programs have none
         return None
-    digests = read_versioned(manifest, _MANIFEST_FORMAT, 1, FormatError).get("sha256")
-    if not isinstance(digests, list) or not all(isinstance(digest, str) for digest in digests):
-        raise FormatError(f"{manifest} is not a valid series manifest: 'sha256' is not a list of digests")
+    digests = read_versioned(manifest, _MANIFEST_FORMAT, 1, FormatError, _MANIFEST_SCHEMA)["sha256"]
     if len(digests) != depth:
         raise FormatError(
             f"cannot read {pattern}: {depth} slices found, {manifest.name} lists {len(digests)}: {_mixed(manifest)}"
