@@ -24,18 +24,19 @@ Script API
 ``print(...)``
     Writes its arguments (tostring'd, tab-separated) to the console log as one line.
 ``load(chunk [, chunkname])``
-    Compiles source text (never bytecode) into a function that sees this script's globals.
+    Compiles source text (never bytecode), given whole or as the pieces a reader function
+    returns, into a function that sees this script's globals.
 Standard library
     ``assert error ipairs next pairs pcall xpcall select tonumber tostring type rawequal rawlen
     rawget rawset setmetatable getmetatable``; ``string`` (no ``dump``), ``table``, ``math``,
-    ``utf8``, ``coroutine``; ``time.clock()`` and ``time.time()`` (``os.clock``/``os.time``).
-    ``setmetatable`` refuses ``__gc`` (finalizers run with hooks off, outside every limit).
-    Not available: ``io os package require debug dofile loadfile collectgarbage`` and anything
-    Python.
+    ``utf8``, ``coroutine`` (no ``close``); ``time.clock()`` and ``time.time()``
+    (``os.clock``/``os.time``). ``setmetatable`` refuses ``__gc`` (finalizers run with hooks off,
+    outside every limit). Not available: ``io os package require debug dofile loadfile
+    collectgarbage`` and anything Python.
 
 Limits
 ------
-Each run gets fresh globals (nothing leaks from one script to the next) and three limits:
+Each run gets fresh globals (nothing leaks from one script to the next) and these limits:
 
 - a budget of Lua instructions (default 50 million, a few tenths of a second of plain Lua here;
   each call into the console costs `CONSOLE_CALL_COST` of it, reading a cvar `CVAR_READ_COST`):
@@ -43,14 +44,34 @@ Each run gets fresh globals (nothing leaks from one script to the next) and thre
 - a time limit (default 5 s), for loops whose work is in C functions (``gsub`` over a long string,
   ``table.insert`` at the front of a long table): ``time limit exceeded (5 s)``;
 - a memory cap (default 64 MiB): ``out of memory (limit 64 MiB)``; a script source may be at
-  most half of it.
+  most half of it;
+- console output: `OUTPUT_LIMIT` (1 MiB) of printed lines and command lines in all, `LINE_LIMIT`
+  (64 KiB) in one line, which is refused whole, never cut: ``output limit exceeded (1 MiB)``,
+  ``printed line too long (70000 bytes; limit 64 KiB)``, ``command line too long (...)``. What
+  commands print in reply is theirs, not counted.
 
-Both clocks are checked between Lua instructions, so one single pathological C call (a pattern
-that backtracks exponentially over a long subject) can still run past them.
+The count hook checks the budget and the clock every `HOOK_PERIOD` instructions, so a single C
+call runs whole between two checks. The C functions scripts get do work about linear in their
+data, which the memory cap bounds, except the pattern functions (``string.find match gmatch
+gsub``), whose matcher backtracks: they are replaced by bounded ones (`app.console.lua_patterns`).
+A call whose worst case in C could pass `WORK_LIMIT` steps (about a millisecond) runs in a Lua
+port of the matcher instead, under the hook. At 60 to 100 instructions per backtracking step
+there, a call that backtracks over a few thousand bytes can spend the budget where C would have
+taken tens of milliseconds.
+
+Reaching a limit stops the run for good: from then on every instruction fails, so ``pcall``
+catching the error gains the script nothing, and a message handler is not called. A stack
+overflow (C or Lua) stops it the same way, since calling the hook can itself fail for want of
+stack, and code there would run unwatched. Every error a script can catch is seen first (by the
+message handler of every ``pcall`` and ``xpcall``, and by ``coroutine.resume``), before the
+stack unwinds and ``__close`` metamethods run; ``coroutine.close`` runs them where nothing could
+see, so it is not provided, and a reader function given to ``load`` is called by the sandbox, not
+inside ``load``.
 
 A script that fails stops, and the console gets one error line naming the script, the line and
-the reason, e.g. ``lua: cube.lua:12: attempt to call a nil value (global 'foo')``. A script cannot
-run another script (through a console command that does), since that would reset its budget.
+the reason, e.g. ``lua: cube.lua:12: attempt to call a nil value (global 'foo')``; where the
+script caught its stop and ended, the line is left out. A script cannot run another script
+(through a console command that does), since that would reset its budget.
 
 Sandbox design: the Python callbacks are upvalues of the Lua closures made by `_SETUP`, which runs
 once per runtime with the full standard library; scripts get only the environment table `new_env`
@@ -75,6 +96,7 @@ from typing import Any, Callable
 from lupa import LuaError, LuaRuntime
 
 from app.console.console import Console
+from app.console.lua_patterns import PATTERNS, WORK_LIMIT
 from app.console.registry import CommandError
 
 HOOK_PERIOD = 1000  # instructions between budget checks: finer costs speed, coarser costs accuracy
@@ -83,26 +105,34 @@ HOOK_PERIOD = 1000  # instructions between budget checks: finer costs speed, coa
 # bare console time here, and 500,000 cvar reads.
 CONSOLE_CALL_COST = 1000
 CVAR_READ_COST = 100
+# Console output a run may make: printed lines and command lines, each echoed into the log. Past
+# either limit the script stops, as at the budget (a longer line is refused, not cut).
+OUTPUT_LIMIT = 2**20  # bytes in all
+LINE_LIMIT = 64 * 2**10  # bytes in one line
 BYTECODE_SIGNATURE = b"\x1bLua"
 BUDGET_MESSAGE = "instruction budget exceeded"
 _LUA_OOM = "not enough memory"
 _PUSH_SLACK = 64 * 2**10  # room for the Lua stack and string headers when a callback's results are pushed
 _INT64 = range(-(2**63), 2**63)
+_CHUNK_NAME = "=(lua sandbox)"  # both chunks: an error blaming them is moved to the script's line
 
 # Runs once per LuaRuntime with the full standard library; returns `run(source, chunkname)`.
 _SETUP = r"""
 local py_command, py_execute, py_cvar_get, py_cvar_set, py_print, py_relimit, py_overtime, BUDGET,
-      PERIOD, CALL_COST, READ_COST, BUDGET_MESSAGE, TIME_MESSAGE = ...
-local error, ipairs, pairs, tostring, type, rawget, setmetatable, load =
-      error, ipairs, pairs, tostring, type, rawget, setmetatable, load
+      PERIOD, CALL_COST, READ_COST, BUDGET_MESSAGE, TIME_MESSAGE, PATTERNS = ...
+local error, ipairs, pairs, tostring, type, rawget, setmetatable, load, xpcall =
+      error, ipairs, pairs, tostring, type, rawget, setmetatable, load, xpcall
 local sethook, getinfo, concat, pack, create, resume, status = debug.sethook, debug.getinfo,
       table.concat, table.pack, coroutine.create, coroutine.resume, coroutine.status
-local SELF = debug.getinfo(1, "S").source  -- this chunk: errors blaming it are moved to the script
-local BLAMES_SELF = "^" .. SELF:sub(2):gsub("%p", "%%%0") .. ":%d+: "
+local find, gsub = string.find, string.gsub  -- the C functions, for this chunk's own messages
+local SELF = debug.getinfo(1, "S").source  -- this chunk (and PATTERNS'): errors blaming it are moved to the script
+local BLAMES_SELF = "^" .. gsub(SELF:sub(2), "%p", "%%%0") .. ":%d+: "
 
--- Strings share one metatable whose __index is the real string library: strip dump from it and
--- lock the metatable so a script can neither reach dump nor change string methods for later runs.
+-- Strings share one metatable whose __index is the real string library: strip dump from it, make
+-- its pattern functions the bounded ones (lua_patterns.py), and lock the metatable so a script can
+-- neither reach dump nor change string methods for later runs.
 string.dump = nil
+for name, fn in pairs(PATTERNS) do string[name] = fn end
 getmetatable("").__metatable = false
 _G.python, package.loaded.python = nil, nil  -- lupa registers it even without eval/builtins
 
@@ -129,8 +159,12 @@ local function charge(cost)
   if stopped then error(stopped, 3) end
 end
 
-local function raise_unless(ok, message)  -- same level rule as charge
-  if not ok then error(message, 3) end
+-- Same level rule as charge. A callback refusing with `stop` (an output limit) ends the run as the
+-- budget does.
+local function raise_unless(ok, message, stop)
+  if ok then return end
+  if stop and not stopped then stopped = message end
+  error(message, 3)
 end
 
 local function relimited(...)
@@ -158,14 +192,59 @@ local function hooked(co)
   return co
 end
 
-local function wrap_results(ok, ...)
+local function results_or_error(ok, ...)
   if ok then return ... end
   error((...), 0)
 end
 
+-- Every error a script can catch passes through here before the stack unwinds (and __close
+-- metamethods run): it is the message handler of the script's pcall and xpcall, and resume checks
+-- what killed a coroutine. A stack overflow stops the run, because it may be the count hook failing
+-- to be called (no C stack or Lua stack left for the call): code at that depth runs unwatched.
+-- Once the run is stopped, this thread goes to 1-instruction mode at once; it would not wait for
+-- a hook call, which may be failing. Returns whether the run is stopped.
+local function watch(e)
+  if not stopped and type(e) == "string" and find(e, "stack overflow", 1, true) then
+    stopped = find(e, "C stack overflow", 1, true) and "C stack overflow" or "stack overflow"
+  end
+  if stopped then sethook(hook, "", 1) end
+  return stopped
+end
+
+local function on_error(e)
+  watch(e)
+  return e
+end
+
+local function safe_pcall(f, ...)
+  return xpcall(f, on_error, ...)
+end
+
+-- Lua calls a message handler where the error was raised: inside the count hook, hooks off, when
+-- the hook stops the run or could not be called. Those are the errors watch stops at; the
+-- script's handler sees only the others, with hooks on.
+local function safe_xpcall(f, handler, ...)
+  if type(handler) ~= "function" then xpcall(f, handler) end  -- raises xpcall's own argument error
+  return xpcall(f, function(e)
+    if watch(e) then return e end
+    return handler(e)
+  end, ...)
+end
+
+local function resumed(ok, ...)
+  if not ok then watch((...)) end
+  return ok, ...
+end
+
+local function safe_resume(co, ...)
+  return resumed(resume(co, ...))
+end
+
 -- Coroutines get the count hook too (hooks are per thread). A new coroutine is charged a full
 -- period up front: it may run that long before its first check, and a loop making many short
--- ones must not escape the budget.
+-- ones must not escape the budget. There is no coroutine.close: it runs __close metamethods in a
+-- thread where none of the above can watch them (a coroutine the hook stopped has hooks off for
+-- good, as the hook never returned).
 local safe_coroutine = {
   create = function(f)
     charge(PERIOD)
@@ -174,10 +253,11 @@ local safe_coroutine = {
   wrap = function(f)
     charge(PERIOD)
     local co = hooked(create(f))
-    return function(...) return wrap_results(resume(co, ...)) end
+    return function(...) return results_or_error(safe_resume(co, ...)) end
   end,
+  resume = safe_resume,
 }
-for _, name in ipairs({"resume", "yield", "status", "running", "isyieldable", "close"}) do
+for _, name in ipairs({"yield", "status", "running", "isyieldable"}) do
   safe_coroutine[name] = coroutine[name]
 end
 
@@ -189,11 +269,34 @@ local function safe_setmetatable(t, mt)
   return setmetatable(t, mt)
 end
 
+-- load calls a reader function inside its own protected call, which would catch (and unwind past)
+-- errors unwatched: read the pieces here instead, as load does.
+local function read_all(reader)
+  local pieces = {}
+  while true do
+    local piece = reader()
+    if piece == nil or piece == "" then return concat(pieces) end
+    if type(piece) ~= "string" then error("reader function must return a string", 0) end
+    pieces[#pieces + 1] = piece
+  end
+end
+
+local function loader(env)
+  return function(chunk, chunkname)
+    if type(chunk) == "function" then
+      local ok, source = safe_pcall(read_all, chunk)
+      if not ok then return nil, source end
+      return load(source, chunkname or "=(load)", "t", env)
+    end
+    return load(chunk, chunkname, "t", env)
+  end
+end
+
 local function safe_print(...)
   local args = pack(...)
   for i = 1, args.n do args[i] = tostring(args[i]) end
   charge(CALL_COST)
-  python(py_print, concat(args, "\t", 1, args.n))
+  raise_unless(python(py_print, concat(args, "\t", 1, args.n)))
 end
 
 local function exec(line)
@@ -253,8 +356,8 @@ local function new_cvar()
 end
 
 local SAFE_GLOBALS = {
-  assert = assert, error = error, ipairs = ipairs, next = next, pairs = pairs, pcall = pcall,
-  xpcall = xpcall, select = select, tonumber = tonumber, tostring = tostring, type = type,
+  assert = assert, error = error, ipairs = ipairs, next = next, pairs = pairs, pcall = safe_pcall,
+  xpcall = safe_xpcall, select = select, tonumber = tonumber, tostring = tostring, type = type,
   rawequal = rawequal, rawlen = rawlen, rawget = rawget, rawset = rawset,
   getmetatable = getmetatable, setmetatable = safe_setmetatable, print = safe_print, exec = exec,
   _VERSION = _VERSION,
@@ -274,7 +377,7 @@ local function new_env()
   local env = copy(SAFE_GLOBALS)
   for name, lib in pairs(LIBRARIES) do env[name] = copy(lib) end  -- copies: edits stay in this run
   env.cmd, env.cvar, env._G = new_cmd(), new_cvar(), env
-  env.load = function(chunk, chunkname) return load(chunk, chunkname, "t", env) end
+  env.load = loader(env)
   return env
 end
 
@@ -285,8 +388,8 @@ local function describe(co, err)
   local t = type(err)
   if t ~= "string" and t ~= "number" then return "(error object is a " .. t .. " value)" end
   err = tostring(err)
-  if not err:find(BLAMES_SELF) then return err end
-  err = err:gsub(BLAMES_SELF, "", 1)
+  if not find(err, BLAMES_SELF) then return err end
+  err = gsub(err, BLAMES_SELF, "", 1)
   local level = 0
   repeat
     local info = getinfo(co, level, "Sl")
@@ -308,9 +411,16 @@ return function(source, chunkname)
   -- budget is spent) never applies to this runner.
   local co = hooked(create(fn))
   local ok, result = resume(co)
-  if not ok then return false, "error", describe(co, result) end
-  if status(co) ~= "dead" then return false, "error", "attempt to yield from outside a coroutine" end
-  return true
+  if not ok then
+    result = describe(co, result)
+  elseif status(co) ~= "dead" then
+    ok, result = false, "attempt to yield from outside a coroutine"
+  end
+  -- A stopped run failed, even where the script caught the error and ended before its own next
+  -- hook call (the stop was in a coroutine or a message handler).
+  if stopped and (ok or not find(result, stopped, 1, true)) then ok, result = false, stopped end
+  if ok then return true end
+  return false, "error", result
 end
 """
 
@@ -376,6 +486,7 @@ class LuaScripting:
         self.time_limit = time_limit
         self._running = False
         self._deadline = 0.0
+        self._output = 0  # bytes of console output this run has made
         self._lua, self._run = self._new_runtime()
 
     def run_file(self, path: str | os.PathLike) -> bool:
@@ -411,6 +522,7 @@ class LuaScripting:
             attribute_handlers=(_refuse_attribute, _refuse_attribute),
         )
         callbacks = (self._command, self._exec, self._cvar_get, self._cvar_set, self._print)
+        patterns = lua.execute(PATTERNS, WORK_LIMIT, name=_CHUNK_NAME, mode="t")
         run = lua.execute(
             _SETUP,
             *(self._callback(lua, fn) for fn in callbacks),
@@ -422,7 +534,8 @@ class LuaScripting:
             CVAR_READ_COST,
             BUDGET_MESSAGE.encode(),
             f"time limit exceeded ({self.time_limit:g} s)".encode(),
-            name="=(lua sandbox)",
+            patterns,
+            name=_CHUNK_NAME,
             mode="t",
         )
         return lua, run
@@ -453,6 +566,7 @@ class LuaScripting:
             return self._fail(name, "cannot run a script from inside a script")
         self._running = True
         self._deadline = time.monotonic() + self.time_limit
+        self._output = 0
         try:
             result = self._run(source, b"=" + name.encode("utf-8", "replace"))  # True or (False, kind, message)
         except LuaError as exc:  # the runner itself failed, not the script
@@ -483,7 +597,19 @@ class LuaScripting:
 
     # -- callbacks (Lua -> Python): plain values in; (True,) or (False, message) out ------------
 
+    def _spend_output(self, size: int, what: str) -> tuple | None:
+        """Charge `size` bytes of console output to the run: None, or the refusal that stops it."""
+        if size > LINE_LIMIT:
+            return False, f"{what} too long ({size} bytes; limit {LINE_LIMIT // 2**10} KiB)".encode(), True
+        if self._output + size > OUTPUT_LIMIT:
+            return False, f"output limit exceeded ({OUTPUT_LIMIT // 2**20} MiB)".encode(), True
+        self._output += size
+        return None
+
     def _run_line(self, line: str) -> tuple:
+        refused = self._spend_output(len(line.encode()), "command line")
+        if refused:
+            return refused
         if self.console.execute(line):
             return (True,)
         return False, f"command failed: {line}".encode()
@@ -512,5 +638,9 @@ class LuaScripting:
             return False, str(exc).encode()
         return self._run_line(_join([cvar.name, text]))
 
-    def _print(self, text: bytes) -> None:
+    def _print(self, text: bytes) -> tuple:
+        refused = self._spend_output(len(text), "printed line")
+        if refused:
+            return refused
         self.console.print(text.decode("utf-8", "replace"))
+        return (True,)
