@@ -274,6 +274,15 @@ def test_console_calls_count_against_the_budget(console):
     assert 500 < len(console.calls) <= 1000
 
 
+def test_commands_an_alias_runs_count_against_the_budget(console):
+    """One call into the console may run many commands (an alias): each is charged as a call of its own."""
+    console.registry.set_alias("hundred", ";".join(["say x"] * 100))
+    lua = LuaScripting(console, instruction_budget=1_000_000)
+    assert not lua.run_string("while true do cmd.hundred() end", "alias.lua")
+    assert errors(console) == ["lua: alias.lua:1: instruction budget exceeded"]
+    assert 500 < len(console.calls) <= 1000  # as many commands as calling `say` itself would have bought
+
+
 def test_loop_over_c_functions_hits_the_time_limit(console):
     # Few instructions, much work in C per instruction: the budget alone would take minutes.
     lua = LuaScripting(console, time_limit=0.2)

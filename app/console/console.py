@@ -140,6 +140,7 @@ class Console:
         self.origins: list[Origin] = []  # innermost last; empty while the user's own lines run
         self._expanding = 0  # run_lines nesting, and the commands run since the outermost began
         self._expanded = 0
+        self.commands_run = 0  # every command dispatched, nested ones too: what a script's budget is charged
 
     @property
     def trusted(self) -> bool:
@@ -287,6 +288,7 @@ class Console:
                 if self._expanded > MAX_EXPANDED:
                     raise RunawayError(f"more than {MAX_EXPANDED} commands from one alias or config "
                                        "(one that calls itself?); stopped")
+            self.commands_run += 1
             recorded = self._dispatch(name, args)
         except RunawayError:  # unwinds to the outermost alias or config (run_lines): one message, not thousands
             raise

@@ -160,11 +160,14 @@ local function charge(cost)
 end
 
 -- Same level rule as charge. A callback refusing with `stop` (an output limit) ends the run as the
--- budget does.
-local function raise_unless(ok, message, stop)
-  if ok then return end
+-- budget does. `nested`: the commands a console call ran besides its own (an alias's), each charged as
+-- a call of the script's own.
+local function raise_unless(ok, message, stop, nested)
+  if nested then used = used + nested * CALL_COST end
+  if not stopped and used > BUDGET then stopped = BUDGET_MESSAGE end
   if stop and not stopped then stopped = message end
-  error(message, 3)
+  if stopped then error(stopped, 3) end
+  if not ok then error(message, 3) end
 end
 
 local function relimited(...)
@@ -610,9 +613,12 @@ class LuaScripting:
         refused = self._spend_output(len(line.encode()), "command line")
         if refused:
             return refused
-        if self.console.execute(line):
-            return (True,)
-        return False, f"command failed: {line}".encode()
+        before = self.console.commands_run
+        ok = self.console.execute(line)
+        nested = max(0, self.console.commands_run - before - 1)  # the call itself is charged already
+        if ok:
+            return True, None, None, nested
+        return False, f"command failed: {line}".encode(), None, nested
 
     def _command(self, name: bytes, *args: Any) -> tuple:
         command = _decode(name)
