@@ -283,6 +283,15 @@ def test_commands_an_alias_runs_count_against_the_budget(console):
     assert 500 < len(console.calls) <= 1000  # as many commands as calling `say` itself would have bought
 
 
+def test_a_slow_command_stops_the_script_right_after_it(console):
+    """The clock is read after each console call, not only every thousand instructions."""
+    console.registry.command("slow")(lambda: time.sleep(0.3))
+    lua = LuaScripting(console, time_limit=0.2)
+    assert not lua.run_string("cmd.slow()\ncmd.say('after')", "slow.lua")
+    assert errors(console) == ["lua: slow.lua:1: time limit exceeded (0.2 s)"]
+    assert console.calls == []
+
+
 def test_loop_over_c_functions_hits_the_time_limit(console):
     # Few instructions, much work in C per instruction: the budget alone would take minutes.
     lua = LuaScripting(console, time_limit=0.2)

@@ -161,10 +161,11 @@ end
 
 -- Same level rule as charge. A callback refusing with `stop` (an output limit) ends the run as the
 -- budget does. `nested`: the commands a console call ran besides its own (an alias's), each charged as
--- a call of the script's own.
+-- a call of the script's own. The clock is read after every console call: one slow command (a smooth
+-- of a large volume) must stop the script at once, not a thousand instructions later.
 local function raise_unless(ok, message, stop, nested)
   if nested then used = used + nested * CALL_COST end
-  if not stopped and used > BUDGET then stopped = BUDGET_MESSAGE end
+  if not stopped then stopped = used > BUDGET and BUDGET_MESSAGE or py_overtime() and TIME_MESSAGE end
   if stop and not stopped then stopped = message end
   if stopped then error(stopped, 3) end
   if not ok then error(message, 3) end
