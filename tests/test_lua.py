@@ -347,7 +347,7 @@ def test_callbacks_survive_a_full_heap():
 
 
 _GUARDED = """
-import json, sys, time
+import json, sys
 from app.console.lua import LuaScripting
 from tests.test_lua import make_console, errors
 
@@ -356,18 +356,16 @@ results = []
 for source in sources:
     console = make_console()
     lua = LuaScripting(console, **limits)
-    start = time.perf_counter()
     lua.run_string(source, "loop.lua")
-    seconds = time.perf_counter() - start
     assert lua.run_string("print('still working')", "next.lua")
-    results.append([errors(console), seconds])
+    results.append(errors(console))
 print(json.dumps(results))
 """
 
 
-def run_guarded(sources: list[str], **limits) -> list[tuple[list[str], float]]:
-    """Run scripts in a fresh process (see run_python), each with a new console and runtime: the
-    error lines of each and how long it took. Each runtime must still work afterwards."""
+def run_guarded(sources: list[str], **limits) -> list[list[str]]:
+    """Run scripts in a fresh process (see run_python: a hang is its timeout), each with a new console and
+    runtime: the error lines of each. Each runtime must still work afterwards."""
     return json.loads(run_python(_GUARDED, json.dumps([sources, limits])))
 
 
@@ -388,10 +386,9 @@ def run_guarded(sources: list[str], **limits) -> list[tuple[list[str], float]]:
     "coroutine.resume(coroutine.create(function() while true do end end))",
 ])
 def test_the_error_machinery_cannot_outrun_the_budget(source):
-    [(errs, seconds)] = run_guarded([f"local x = 1\n{source}"], instruction_budget=2_000_000)
+    [errs] = run_guarded([f"local x = 1\n{source}"], instruction_budget=2_000_000)
     # A script that ended after its stop was caught has no line left to blame.
     assert errs in (["lua: loop.lua:2: instruction budget exceeded"], ["lua: loop.lua: instruction budget exceeded"])
-    assert seconds < 30  # a few hundredths of a second here; the hang this guards against is for ever
 
 
 _AT_THE_C_STACK_LIMIT = """
@@ -415,7 +412,7 @@ def test_code_at_the_c_stack_limit_is_stopped(body):
     # At the limit there is no C stack left to call the count hook: each call of it fails with a
     # "C stack overflow" error instead. Somewhere in this range of depths lies the limit.
     sources = [_AT_THE_C_STACK_LIMIT % (body, depth) for depth in range(170, 200)]
-    for [line], _seconds in run_guarded(sources, instruction_budget=1_000_000):
+    for [line] in run_guarded(sources, instruction_budget=1_000_000):
         assert line.endswith(("instruction budget exceeded", "stack overflow")), line
 
 
@@ -556,9 +553,8 @@ def test_control_characters_stop_the_script_and_change_nothing(char):
 ])
 def test_pathological_patterns_are_stopped(call):
     # In C each of these runs for minutes to ages, past every limit.
-    [(errs, seconds)] = run_guarded([f"local x = 1\n{call}"], instruction_budget=5_000_000)
-    assert errs == ["lua: loop.lua:2: instruction budget exceeded"]
-    assert seconds < 30  # at most a few tenths of a second here; the hang this guards against is for ever
+    [errs] = run_guarded([f"local x = 1\n{call}"], instruction_budget=5_000_000)
+    assert errs == ["lua: loop.lua:2: instruction budget exceeded"]  # the budget, a count of work, stopped it
 
 
 def test_scripts_get_the_c_results_from_long_subjects(run, console):
