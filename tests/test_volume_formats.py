@@ -338,7 +338,7 @@ def test_series_refusals_and_numbering(tmp_path):
 # --- only regular files, read within bounds ---------------------------------------------------------------------
 
 
-def read_without_hanging(path: Path, seconds: float = 5.0) -> str:
+def read_without_hanging(path: Path, seconds: float = 30.0) -> str:
     """read_volume(path)'s FormatError message; a read that blocks fails the test instead of hanging the run."""
     outcome: dict[str, str] = {}
 
