@@ -182,7 +182,7 @@ def register(editor: "Editor") -> None:
             loaded = scene_file.load(path)
         except (Lighting2DError, OSError) as exc:
             raise CommandError(str(exc)) from None
-        for name in loaded.image_names():
+        for _where, name in loaded.images():
             check_image(name)
         edit()
         editor.replace_lighting(loaded)

@@ -59,14 +59,11 @@ def _make(kind, item: dict, where: str):
 
 def _check_images(scene: Scene2D) -> None:
     """Every image a scene names must load now, not fail every frame later."""
-    named = [("background", scene.background), ("normal_map", scene.normal_map),
-             *((f"lights[{i}].texture", light.texture) for i, light in enumerate(scene.lights))]
-    for where, name in named:
-        if name is not None:
-            try:
-                image(name)
-            except Lighting2DError as exc:
-                raise Lighting2DError(f"{where}: {exc}") from None
+    for where, name in scene.images():
+        try:
+            image(name)
+        except Lighting2DError as exc:
+            raise Lighting2DError(f"{where}: {exc}") from None
 
 
 def dumps(scene: Scene2D) -> str:

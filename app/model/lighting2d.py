@@ -272,9 +272,11 @@ class Scene2D:
         if not isinstance(self.background, str) or not self.background:
             raise Lighting2DError("background must be a builtin name or an image path")
 
-    def image_names(self) -> list[str]:
-        """Every image the scene names: the background, the normal map and the textured lights' images."""
-        return [n for n in (self.background, self.normal_map, *(light.texture for light in self.lights)) if n]
+    def images(self) -> list[tuple[str, str]]:
+        """(field, name) of every image the scene names: the background, the normal map and the lights' textures."""
+        named = [("background", self.background), ("normal_map", self.normal_map),
+                 *((f"lights[{i}].texture", light.texture) for i, light in enumerate(self.lights))]
+        return [(where, name) for where, name in named if name]
 
     def touch(self) -> None:
         self.version += 1
