@@ -180,7 +180,6 @@ def test_a_config_that_execs_itself_twice_stops(editor, tmp_path):
 
 
 def test_console_work_per_line_is_capped(editor):
-    console = editor.console
     assert not editor.execute("echo " + "A" * (console_module.MAX_LINE + 1))
     assert "at most" in errors(editor)[-1]
     assert not editor.execute("echo " + "A" * (console_module.MAX_WORD + 1))
@@ -245,3 +244,19 @@ def test_dot_dot_from_a_config_cannot_climb_out(editor, tmp_path):
     (tmp_path / "c.cfg").write_text("condump ../../escape.txt\n")
     assert not editor.execute(f"exec {tmp_path / 'c.cfg'}")
     assert not (tmp_path / "escape.txt").exists() and not os.path.exists(tmp_path.parent / "escape.txt")
+
+
+def test_configs_demos_and_scripts_are_read_within_a_bound(editor, tmp_path):
+    """They are read whole before anything runs: a file of any size would be read into memory first."""
+    from app.console import builtins, demo
+
+    (tmp_path / "big.cfg").write_bytes(b"echo x\n" * (builtins.MAX_CONFIG_BYTES // 7 + 1))
+    assert not editor.execute(f"exec {tmp_path / 'big.cfg'}")
+    assert "over the size limit" in errors(editor)[-1]
+    (tmp_path / "big.demo").write_bytes(b"shadelab-demo 1\n" + b"0 echo x\n" * (demo.MAX_BYTES // 9 + 1))
+    assert not editor.execute(f"play {tmp_path / 'big.demo'}")
+    assert "over the size limit" in errors(editor)[-1]
+    (tmp_path / "big.lua").write_bytes(b"--" + b"x" * (editor.lua.memory_limit // 2))
+    assert not editor.execute(f"lua {tmp_path / 'big.lua'}")
+    assert "over the size limit" in errors(editor)[-1]
+    assert "x" not in [line.text for line in editor.console.log]

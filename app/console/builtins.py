@@ -9,6 +9,9 @@ from app.console.console import Console, Origin
 from app.console.lua import LuaScripting
 from app.console.registry import CommandError, Cvar, Reported
 from app.io.atomic import write_text
+from app.io.regular_file import read_regular_bytes
+
+MAX_CONFIG_BYTES = 1 << 20  # a config runs at most MAX_EXPANDED commands anyway
 
 
 def _infer(text: str) -> type:
@@ -42,9 +45,12 @@ def exec_file(console: Console, name: str) -> bool:
         console.error(f"exec: cannot find {name}")
         return False
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        console.error(f"exec: cannot read {path}: {exc}")
+        text = read_regular_bytes(path, MAX_CONFIG_BYTES).decode("utf-8")
+    except OSError as exc:
+        console.error(f"exec: cannot read {path}: {exc.strerror}")
+        return False
+    except UnicodeDecodeError as exc:
+        console.error(f"exec: cannot read {path}: not UTF-8 text (byte {exc.start})")
         return False
     return console.run_lines(text.splitlines(), f"exec {path.name}", Origin("config", path.parent),
                              lambda number, line: console.error(f"exec: {path.name}:{number}: {line.strip()}"))

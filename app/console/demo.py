@@ -22,12 +22,14 @@ from typing import Callable, Protocol
 from app.console.console import Console, split_commands
 from app.console.registry import CommandError
 from app.io.atomic import write_text
+from app.io.regular_file import read_regular_bytes
 
 MAGIC = "shadelab-demo"
 VERSION = 1
 # Bounds that keep every due time a host computes (start + time / speed) a number it can sleep until.
 MAX_TIME = 86_400.0  # seconds: a day
 MIN_SPEED, MAX_SPEED = 1 / 64, 64.0
+MAX_BYTES = 16 << 20  # an hour of drags recorded at 60 lines a second is about 20 MB: cut a longer one
 
 
 class Clock(Protocol):
@@ -179,9 +181,11 @@ def _check_command(console: Console, checks: ArgChecks, words: list[str], seen: 
 
 def load(console: Console, path: Path, arg_checks: ArgChecks | None = None) -> list[Event]:
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DemoError(f"cannot read {path}: {exc}") from None
+        text = read_regular_bytes(path, MAX_BYTES).decode("utf-8")
+    except OSError as exc:
+        raise DemoError(f"cannot read {path}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise DemoError(f"cannot read {path}: not UTF-8 text (byte {exc.start})") from None
     events = parse(text, path.name)
     check(console, events, path.name, arg_checks)
     return events

@@ -98,6 +98,7 @@ from lupa import LuaError, LuaRuntime
 from app.console.console import Console
 from app.console.lua_patterns import PATTERNS, WORK_LIMIT
 from app.console.registry import CommandError
+from app.io.regular_file import read_regular_bytes
 
 HOOK_PERIOD = 1000  # instructions between budget checks: finer costs speed, coarser costs accuracy
 # Python work is charged in instructions too, so a runaway loop of console calls also stops: at the
@@ -497,7 +498,7 @@ class LuaScripting:
         """Read a script (UTF-8 text) and run it; False, with one console error line, on any failure."""
         name = Path(path).name
         try:
-            data = Path(path).read_bytes()
+            data = read_regular_bytes(path, self.memory_limit // 2)  # more could not be pushed (see above)
         except OSError as exc:
             return self._fail(name, f"cannot read {os.fspath(path)}: {exc.strerror or exc}")
         if not data.startswith(BYTECODE_SIGNATURE):  # checked first so bytecode gets the clearer refusal
