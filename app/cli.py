@@ -8,8 +8,6 @@ import time
 from pathlib import Path
 from shlex import quote as shlex_quote
 
-from app.model.workspace import NAMES
-
 HEADLESS = ("render", "bench", "exec")
 EXEC_USAGE = """usage: shadelab exec [FILE | -c COMMAND]...
 
@@ -30,12 +28,14 @@ def _size(text: str) -> tuple[int, int]:
 
 def parser() -> argparse.ArgumentParser:
     from app.bench import TECHNIQUES
+    from app.gl.workspace_renderer import RENDERERS
+    from app.model.workspaces import names
 
     p = argparse.ArgumentParser(prog="shadelab", description="Shadelab: a workbench for real-time lighting and volume techniques.")
     sub = p.add_subparsers(dest="verb", metavar="{render,bench,exec}")
     sub.add_parser("exec", help="run .cfg/.lua/.demo files and -c commands headless (shadelab exec -h)")
     r = sub.add_parser("render", help="draw one frame of a workspace headless (EGL) into a PNG")
-    r.add_argument("workspace", choices=NAMES)
+    r.add_argument("workspace", choices=[n for n in names() if n in RENDERERS])
     r.add_argument("--scene", metavar="FILE", help="scene file to load first (scene.load)")
     r.add_argument("--cmd", action="append", default=[], metavar="COMMAND",
                    help="console command to run before drawing (repeatable, in order)")
@@ -50,7 +50,7 @@ def parser() -> argparse.ArgumentParser:
 
 def render(args) -> int:
     from app.editor import Editor
-    from app.gl.headless import OffscreenTarget, create_context
+    from app.gl.headless import OffscreenTarget, create_context, release_context
     from app.gl.workspace_renderer import WorkspaceRenderer
     from app.io.png import write_png
 
@@ -65,12 +65,14 @@ def render(args) -> int:
         print(f"shadelab render: {len(failed)} command(s) failed; no image written", file=sys.stderr)
         return 1
     ctx = create_context()
-    errors = []
-    renderer = WorkspaceRenderer(ctx, on_shader_error=errors.append)
-    target = OffscreenTarget(ctx, args.size)
-    renderer.render(editor, target.fbo)
-    write_png(args.out, target.read())
-    print(f"wrote {args.out} ({args.size[0]}x{args.size[1]}, {ctx.info['GL_RENDERER']})")
+    try:
+        renderer = WorkspaceRenderer(ctx)
+        target = OffscreenTarget(ctx, args.size)
+        renderer.render(target.fbo, editor.current, editor.render_settings())
+        write_png(args.out, target.read())
+        print(f"wrote {args.out} ({args.size[0]}x{args.size[1]}, {ctx.info['GL_RENDERER']})")
+    finally:
+        release_context(ctx)  # leaves none current: a caller in this process may make its own
     return 0
 
 
@@ -163,7 +165,7 @@ class HeadlessFrame:
             ctx = create_context()
             self.renderer = WorkspaceRenderer(ctx, on_shader_error=lambda e: self.editor.console.error(str(e)))
             self.target = OffscreenTarget(ctx, self.size)
-        self.renderer.render(self.editor, self.target.fbo)
+        self.renderer.render(self.target.fbo, self.editor.current, self.editor.render_settings())
         self.target.ctx.finish()
 
 

@@ -69,9 +69,9 @@ def test_lists_and_help(editor):
 def test_echo_alias_and_loops(editor):
     e = editor
     assert e.execute('alias grow "snow.step 1; echo grown"')
-    level = e.snowflake.level
+    level = e.workspaces["snowflake"].scene.level
     assert e.execute("grow")
-    assert e.snowflake.level == level + 1 and out(e) == "grown"
+    assert e.workspaces["snowflake"].scene.level == level + 1 and out(e) == "grown"
     e.execute("alias loop loop")
     assert not e.execute("loop")
     assert "nested more than" in errors(e)[-1]
@@ -80,13 +80,13 @@ def test_echo_alias_and_loops(editor):
 
 def test_wait_defers_the_rest_of_the_line(editor):
     e = editor
-    level = e.snowflake.level
+    level = e.workspaces["snowflake"].scene.level
     assert e.execute("snow.step 1; wait 2; snow.step 1")
-    assert e.snowflake.level == level + 1
+    assert e.workspaces["snowflake"].scene.level == level + 1
     e.console.frame()
-    assert e.snowflake.level == level + 1
+    assert e.workspaces["snowflake"].scene.level == level + 1
     e.console.frame()
-    assert e.snowflake.level == level + 2 and not e.console.waiting
+    assert e.workspaces["snowflake"].scene.level == level + 2 and not e.console.waiting
     assert not e.execute("wait many")
 
 
@@ -107,7 +107,7 @@ def test_bind_unbind_bindlist(editor):
 def test_exec_reports_the_failing_line_and_runs_the_rest(editor, tmp_path):
     (tmp_path / "mine.cfg").write_text("// comment\nsnow.level 2\nsnow.level banana\nsnow.step 1\n")
     assert not editor.execute("exec mine.cfg")
-    assert editor.snowflake.level == 3
+    assert editor.workspaces["snowflake"].scene.level == 3
     assert "exec: mine.cfg:3: snow.level banana" in errors(editor)
     assert not editor.execute("exec none.cfg") and "cannot find none.cfg" in errors(editor)[-1]
 

@@ -62,7 +62,7 @@ def test_a_lua_error_names_the_script_and_line(window, qtbot, tmp_path):
     script.write_text("cmd.snow.level(1)\nlocal t = nil\nprint(t.field)\n")
     type_line(qtbot, window, f"lua {script}")
     assert "broken.lua:3:" in log_text(window)
-    assert window.editor.snowflake.level == 1  # what ran before the error stays; nothing after it
+    assert window.editor.workspaces["snowflake"].scene.level == 1  # what ran before the error stays; nothing after it
 
 
 def test_a_runaway_lua_loop_is_stopped_within_its_budget(window, qtbot, tmp_path):
@@ -71,7 +71,7 @@ def test_a_runaway_lua_loop_is_stopped_within_its_budget(window, qtbot, tmp_path
     type_line(qtbot, window, f"lua {script}")
     assert "spin.lua:2: instruction budget exceeded" in log_text(window)  # the budget stopped it, not a clock
     type_line(qtbot, window, "snow.level 3")  # the editor carries on
-    assert window.editor.snowflake.level == 3
+    assert window.editor.workspaces["snowflake"].scene.level == 3
 
 
 def test_page_keys_scroll_the_log_and_escape_closes(window, qtbot):
@@ -98,16 +98,16 @@ def test_binds_from_the_config_drive_the_view(window, qtbot):
     type_line(qtbot, window, "bind F5 snow.level 5")
     window.viewport.setFocus()
     qtbot.keyClick(window.viewport, Qt.Key.Key_F5)
-    assert window.editor.snowflake.level == 5
+    assert window.editor.workspaces["snowflake"].scene.level == 5
     qtbot.keyClick(window.viewport, Qt.Key.Key_PageDown)  # snowflake:PGDN from default.cfg
-    assert window.editor.snowflake.level == 4
+    assert window.editor.workspaces["snowflake"].scene.level == 4
 
 
 def test_demo_plays_in_the_editor_on_its_timer(window, qtbot):
     type_line(qtbot, window, "play snowflake_tour 8")
     assert window.editor.demos.playing
     qtbot.waitUntil(lambda: not window.editor.demos.playing, timeout=5000)
-    assert window.editor.snowflake.level == 6 and len(window.editor.snowflake.flakes) == 2
+    assert window.editor.workspaces["snowflake"].scene.level == 6 and len(window.editor.workspaces["snowflake"].scene.flakes) == 2
     assert "demo finished: 18 commands" in log_text(window)
 
 

@@ -55,12 +55,12 @@ def test_record_then_replay_in_a_fresh_editor_gives_the_same_digest(tmp_path):
     assert fresh.execute("play session")
     clock.advance(0.6)
     fresh.demos.update()
-    assert fresh.snowflake.level == 2.75 and fresh.demos.playing
+    assert fresh.workspaces["snowflake"].scene.level == 2.75 and fresh.demos.playing
     clock.advance(1.2)
     fresh.demos.update()
     assert not fresh.demos.playing
     assert fresh.digest() == recorded.digest()
-    cam, rec = fresh.snowflake_camera, recorded.snowflake_camera
+    cam, rec = fresh.workspaces["snowflake"].camera, recorded.workspaces["snowflake"].camera
     assert (cam.cx, cam.cy, cam.height) == (rec.cx, rec.cy, rec.height)  # the view too
 
 
@@ -71,15 +71,15 @@ def test_speed_pause_and_stop(tmp_path):
     e.execute("play session 2")
     clock.advance(0.3)  # 0.6 s of demo time at speed 2
     e.demos.update()
-    assert e.snowflake.level == 2.75
+    assert e.workspaces["snowflake"].scene.level == 2.75
     e.execute("pause")
     clock.advance(10)
     e.demos.update()
-    assert e.demos.playing and len(e.snowflake.flakes) == 8  # the remove at 1.75 s has not run
+    assert e.demos.playing and len(e.workspaces["snowflake"].scene.flakes) == 8  # the remove at 1.75 s has not run
     e.execute("pause")  # resume
     clock.advance(0.6)
     e.demos.update()
-    assert not e.demos.playing and len(e.snowflake.flakes) == 7
+    assert not e.demos.playing and len(e.workspaces["snowflake"].scene.flakes) == 7
     e.execute("play session")
     assert e.execute("stop") and not e.demos.playing
 
@@ -137,7 +137,7 @@ def test_shipped_demo_plays():
     e = Editor(clock=VirtualClock())
     assert e.execute("timedemo snowflake_tour")
     assert errors(e) == []
-    assert e.snowflake.level == 6 and len(e.snowflake.flakes) == 2
+    assert e.workspaces["snowflake"].scene.level == 6 and len(e.workspaces["snowflake"].scene.flakes) == 2
 
 
 def test_preamble_quotes_text_and_keeps_floats_exact(tmp_path):
@@ -151,7 +151,7 @@ def test_preamble_quotes_text_and_keeps_floats_exact(tmp_path):
     reg = fresh.console.registry
     assert reg.cvars["greeting"].value == "hello world" and reg.cvars["cl_distanceScale"].value == 1.23456789
     assert fresh.digest() == e.digest()
-    assert (fresh.volume_view.mode, fresh.volume_view.shadows, fresh.volume_view.light) == (3, False, (0.1, 0.2, 0.3))
+    assert (fresh.workspaces["volume"].view.mode, fresh.workspaces["volume"].view.shadows, fresh.workspaces["volume"].view.light) == (3, False, (0.1, 0.2, 0.3))
 
 
 @pytest.mark.parametrize("line, needle", [
@@ -207,7 +207,7 @@ def test_checks_of_a_shape_the_demo_changed_are_left_to_playback_which_stops_at_
     assert e.execute("play grow")  # voxel 5 fits the 64-voxel volume the check sees
     clock.advance(1)
     e.demos.update()
-    assert not e.demos.playing and e.volume.size == (4, 4, 4) and e.volume_view.index != 1  # the slice never ran
+    assert not e.demos.playing and e.workspaces["volume"].volume.size == (4, 4, 4) and e.workspaces["volume"].view.index != 1  # the slice never ran
     assert errors(e)[-1] == ("grow.demo: stopped at 0.200 s, command 3 of 4 ('voxel 5 0 0 255 0 0 255') failed; "
                              "the 1 after it did not run")
     assert not e.execute("timedemo grow")
@@ -220,6 +220,6 @@ def test_indices_made_by_the_demo_itself_are_not_refused(tmp_path):
         "0 light.set 3 texture builtin:flame\n0 light.set 3 kind textured\n0 light.move 3 1 2\n"
         "0 snow.add 0 0\n0 snow.move 7 1 1\n0 new 8 8 128\n0 slice z 100\n")
     e = Editor(clock=VirtualClock())
-    assert len(e.lighting.lights) == 3 and len(e.snowflake.flakes) == 7
+    assert len(e.workspaces["lighting2d"].scene.lights) == 3 and len(e.workspaces["snowflake"].scene.flakes) == 7
     assert e.execute("timedemo build"), errors(e)
-    assert e.lighting.lights[3].kind == "textured" and e.volume_view.index == 100
+    assert e.workspaces["lighting2d"].scene.lights[3].kind == "textured" and e.workspaces["volume"].view.index == 100

@@ -13,7 +13,7 @@ from app.console import demo
 from app.console.builtins import exec_file
 from app.console.demo import VirtualClock
 from app.editor import Editor
-from app.model.workspace import NAMES
+from app.model.workspaces import names
 from app.resources import SCENES
 
 EXAMPLES = int(os.environ.get("FUZZ_N", 1000))
@@ -124,7 +124,7 @@ def scene_load_is_all_or_nothing(editor, folder, workspace: str, content: bytes)
     if not ok:
         assert editor.digest() == before
     elif workspace == "lighting2d":  # what loaded is what every frame relies on
-        for light in editor.lighting.lights:
+        for light in editor.workspaces["lighting2d"].scene.lights:
             assert len(light.position) == len(light.origin) == len(light.scale) == 2 and len(light.color) == 3
             assert light.texture is None or isinstance(light.texture, str)
 
@@ -145,7 +145,7 @@ floats = (st.floats(-500, 500).map(repr) | st.integers(-5, 5).map(str)
 small = st.integers(0, 12).map(str) | st.just("5000")
 words = st.sampled_from(["x", "y", "z", "w", "point", "spot", "textured", "radius", "kind", "texture", "scale",
                          "rotation", "position", "enabled", "color", "builtin:flame", "builtin:tiles", "/dev/zero",
-                         "pipe.png", "none", "exact", "magic", *NAMES, "cl_steps", "r_shadowMethod", "r_new"])
+                         "pipe.png", "none", "exact", "magic", *names(), "cl_steps", "r_shadowMethod", "r_new"])
 anything = st.text(alphabet=st.characters(codec="utf-8", exclude_categories=["Cs"]), max_size=10).map(repr)
 # name -> arguments; lists repeat their strategy 0..8 times. File-writing commands are left out on purpose.
 VOCABULARY = {

@@ -26,16 +26,16 @@ def errors(editor) -> list[str]:
 def test_lights_and_hulls_are_edited_by_commands(editor):
     assert editor.execute("light.add point 10 20")
     assert editor.execute("light.set 0 radius 12.5; light.set 0 color 1 0.5 0.25; light.set 0 shadow_type occluded")
-    light = editor.lighting.lights[0]
+    light = editor.workspaces["lighting2d"].scene.lights[0]
     assert light.position == (10, 20) and light.radius == 12.5 and light.color == (1, 0.5, 0.25)
     assert light.shadow_type == "occluded"
     assert editor.execute("hull.add 0 0 10 0 10 10 0 10; hull.set 0 rotation 0.5; hull.move 0 3 4")
-    hull = editor.lighting.hulls[0]
+    hull = editor.workspaces["lighting2d"].scene.hulls[0]
     assert hull.valid and hull.position == (3, 4) and hull.rotation == 0.5
     assert editor.execute("hull.vertex 0 2 20 20; hull.insert 0 1 5 -5; hull.delete 0 0")
     assert hull.points.tolist() == [[5, -5], [10, 0], [20, 20], [0, 10]]
     assert editor.execute("light.add spot 0 0; light.add textured 5 5 builtin:flame")
-    assert editor.lighting.lights[1].origin == (0.0, 0.5) and editor.lighting.lights[2].texture == "builtin:flame"
+    assert editor.workspaces["lighting2d"].scene.lights[1].origin == (0.0, 0.5) and editor.workspaces["lighting2d"].scene.lights[2].texture == "builtin:flame"
 
 
 @pytest.mark.parametrize("line, needle", [
@@ -75,7 +75,7 @@ def test_bad_arguments_are_refused_and_change_nothing(editor, line, needle):
 
 def test_invalid_hulls_are_kept_marked_and_reported(editor):
     assert editor.execute("hull.add 0 0 10 10 10 0 0 10")  # a bow tie
-    hull = editor.lighting.hulls[0]
+    hull = editor.workspaces["lighting2d"].scene.hulls[0]
     assert not hull.valid and "cross" in hull.invalid_reason
     assert any("invalid and ignored" in line.text for line in editor.console.log)
     assert editor.execute("hull.vertex 0 1 10 0; hull.vertex 0 2 10 10")  # untangled by editing a vertex
@@ -101,7 +101,7 @@ def test_scene_files_round_trip_and_malformed_ones_change_nothing(editor, tmp_pa
     saved = editor.digest()
     editor.execute("lighting.clear")
     assert editor.execute(f"scene.load {path}")
-    assert editor.digest() == saved and editor.lighting_camera.cx == 12
+    assert editor.digest() == saved and editor.workspaces["lighting2d"].camera.cx == 12
     bad = tmp_path / "bad.json"
     data = json.loads(path.read_text())
     data["lights"][0]["radius"] = -3
@@ -117,7 +117,7 @@ def test_every_sample_scene_loads(editor):
     assert len(names) == 10 and [n[0] for n in names] == list("abcdefghij")
     for name in names:
         assert editor.execute(f"lighting.sample {name}")
-        assert all(h.valid for h in editor.lighting.hulls)
+        assert all(h.valid for h in editor.workspaces["lighting2d"].scene.hulls)
 
 
 def test_a_recorded_demo_replays_to_the_same_scene(tmp_path):

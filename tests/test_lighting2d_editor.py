@@ -7,8 +7,13 @@ from PySide6.QtGui import QMouseEvent
 from PySide6.QtWidgets import QApplication
 
 
+def panel(window):
+    """The 2D panel (inside its scroll area)."""
+    return window.workspace_panels["lighting2d"].widget()
+
+
 def pixel(window, x, y) -> QPoint:
-    cam, vp = window.editor.lighting_camera, window.viewport
+    cam, vp = window.editor.workspaces["lighting2d"].camera, window.viewport
     unit = cam.world_per_pixel(vp.height())
     return QPoint(round((x - cam.cx) / unit + vp.width() / 2), round(vp.height() / 2 - (y - cam.cy) / unit))
 
@@ -41,10 +46,10 @@ def test_a_light_is_selected_and_dragged_in_one_undo_step(window, qtbot):
     before = window.editor.digest()
     vp = window.viewport
     drag(qtbot, vp, pixel(window, 0, 0), pixel(window, 60, -40))
-    assert window.editor.lighting_selection == ("light", 0)
-    x, y = window.editor.lighting.lights[0].position
+    assert window.editor.workspaces["lighting2d"].selection == ("light", 0)
+    x, y = window.editor.workspaces["lighting2d"].scene.lights[0].position
     assert math.dist((x, y), (60, -40)) < 3
-    assert window.lighting_panel.light_box.isVisible() and abs(window.lighting_panel.l_place.x.value() - x) < 0.01
+    assert panel(window).light_box.isVisible() and abs(panel(window).l_place.x.value() - x) < 0.01
     window.run("undo")
     assert window.editor.digest() == before
 
@@ -54,11 +59,11 @@ def test_the_rotate_handle_turns_the_selection(window, qtbot):
     window.run("hull.add -20 -20 20 -20 20 20 -20 20")
     vp = window.viewport
     qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 0, 0))
-    assert window.editor.lighting_selection == ("hull", 0)
-    unit = window.editor.lighting_camera.world_per_pixel(vp.height())
+    assert window.editor.workspaces["lighting2d"].selection == ("hull", 0)
+    unit = window.editor.workspaces["lighting2d"].camera.world_per_pixel(vp.height())
     handle = (40 * unit, 0.0)  # the round handle sits 40 px along the hull's rotation
     drag(qtbot, vp, pixel(window, *handle), pixel(window, 0, 40 * unit))
-    assert abs(window.editor.lighting.hulls[0].rotation - math.pi / 2) < 0.1
+    assert abs(window.editor.workspaces["lighting2d"].scene.hulls[0].rotation - math.pi / 2) < 0.1
 
 
 def test_a_hull_is_drawn_by_clicking_points(window, qtbot):
@@ -69,9 +74,9 @@ def test_a_hull_is_drawn_by_clicking_points(window, qtbot):
     for x, y in ((-50, -50), (50, -50), (0, 60)):
         qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, x, y))
     qtbot.keyClick(vp, Qt.Key.Key_Return)
-    hulls = window.editor.lighting.hulls
+    hulls = window.editor.workspaces["lighting2d"].scene.hulls
     assert len(hulls) == 1 and hulls[0].valid and len(hulls[0].points) == 3
-    assert window.editor.lighting_selection == ("hull", 0)
+    assert window.editor.workspaces["lighting2d"].selection == ("hull", 0)
 
 
 def test_vertices_are_dragged_inserted_and_deleted(window, qtbot):
@@ -80,7 +85,7 @@ def test_vertices_are_dragged_inserted_and_deleted(window, qtbot):
     vp = window.viewport
     qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 0, 0))
     drag(qtbot, vp, pixel(window, 40, 40), pixel(window, 70, 60))
-    hull = window.editor.lighting.hulls[0]
+    hull = window.editor.workspaces["lighting2d"].scene.hulls[0]
     assert math.dist(tuple(hull.points[2]), (70, 60)) < 3
     qtbot.mouseDClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 0, -40))  # on the bottom edge
     assert len(hull.points) == 5
@@ -91,19 +96,19 @@ def test_vertices_are_dragged_inserted_and_deleted(window, qtbot):
 def test_an_invalid_hull_shows_its_reason_in_the_panel(window, qtbot):
     open_2d(window, qtbot)
     window.run("hull.add -40 -40 40 40 40 -40 -40 40")  # a bow tie
-    window.editor.lighting_selection = ("hull", 0)
-    window.lighting_panel.sync()
-    assert "cross" in window.lighting_panel.h_state.text()
+    window.editor.workspaces["lighting2d"].selection = ("hull", 0)
+    panel(window).sync()
+    assert "cross" in panel(window).h_state.text()
 
 
 def test_panel_edits_are_commands(window, qtbot):
     open_2d(window, qtbot)
     window.run("light.add point 0 0")
-    window.editor.lighting_selection = ("light", 0)
-    window.lighting_panel.sync()
-    window.lighting_panel.l_radius.setValue(33)
-    assert window.editor.lighting.lights[0].radius == 33
-    window.lighting_panel.method.setCurrentText("penumbra")
+    window.editor.workspaces["lighting2d"].selection = ("light", 0)
+    panel(window).sync()
+    panel(window).l_radius.setValue(33)
+    assert window.editor.workspaces["lighting2d"].scene.lights[0].radius == 33
+    panel(window).method.setCurrentText("penumbra")
     assert window.editor.console.registry.cvars["r_shadowMethod"].value == "penumbra"
     window.run("undo")
-    assert window.editor.lighting.lights[0].radius == 20
+    assert window.editor.workspaces["lighting2d"].scene.lights[0].radius == 20

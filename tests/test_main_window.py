@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt
 
-from app.model.workspace import WORKSPACES
+from app.model.workspaces import WORKSPACES
 
 
 def inputs(window):
@@ -19,7 +19,7 @@ def frame_image(window):
 
 
 def centre_pixel_of_world(window, x, y):
-    cam, vp = window.editor.snowflake_camera, window.viewport
+    cam, vp = window.editor.workspaces["snowflake"].camera, window.viewport
     units = cam.world_per_pixel(vp.height())
     return QPoint(round(vp.width() / 2 + (x - cam.cx) / units), round(vp.height() / 2 - (y - cam.cy) / units))
 
@@ -68,23 +68,23 @@ def test_a_bound_key_runs_untrusted(window, qtbot, tmp_path):
 
 
 def test_w_and_s_change_the_level(window, qtbot):
-    level = window.editor.snowflake.level
+    level = window.editor.workspaces["snowflake"].scene.level
     qtbot.keyClick(window.viewport, Qt.Key.Key_W)
     qtbot.keyClick(window.viewport, Qt.Key.Key_W)
     qtbot.keyClick(window.viewport, Qt.Key.Key_S)
-    assert window.editor.snowflake.level == level + 0.25
+    assert window.editor.workspaces["snowflake"].scene.level == level + 0.25
     assert inputs(window)[-3:] == ["] snow.step 0.25", "] snow.step 0.25", "] snow.step -0.25"]
-    assert window.snowflake_panel.spin.value() == level + 0.25
+    assert window.workspace_panels["snowflake"].spin.value() == level + 0.25
 
 
 def test_click_adds_drag_moves_right_click_removes(window, qtbot):
-    vp, scene = window.viewport, window.editor.snowflake
+    vp, scene = window.viewport, window.editor.workspaces["snowflake"].scene
     n = len(scene.flakes)
     empty = centre_pixel_of_world(window, -1.1, 0.0)
     qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=empty)
     assert len(scene.flakes) == n + 1
     added = scene.flakes[-1]
-    cam = window.editor.snowflake_camera
+    cam = window.editor.workspaces["snowflake"].camera
     assert abs(added.x + 1.1) < 2 * cam.world_per_pixel(vp.height()) and abs(added.y) < 2 * cam.world_per_pixel(vp.height())
 
     qtbot.mousePress(vp, Qt.MouseButton.LeftButton, pos=empty)
@@ -101,7 +101,7 @@ def test_wheel_zooms_about_the_cursor(window, qtbot):
     from PySide6.QtCore import QPointF
     from PySide6.QtGui import QWheelEvent
 
-    vp, cam = window.viewport, window.editor.snowflake_camera
+    vp, cam = window.viewport, window.editor.workspaces["snowflake"].camera
     pos = QPointF(vp.width() * 0.75, vp.height() * 0.25)
     before = cam.to_world(pos.x(), pos.y(), vp.width(), vp.height())
     height = cam.height
@@ -124,10 +124,10 @@ def test_console_widget_runs_commands_with_history(window, qtbot):
     line = window.console_widget.input
     qtbot.keyClicks(line, "snow.level 1.5")
     qtbot.keyClick(line, Qt.Key.Key_Return)
-    assert window.editor.snowflake.level == 1.5
+    assert window.editor.workspaces["snowflake"].scene.level == 1.5
     qtbot.keyClicks(line, "snow.level banana")
     qtbot.keyClick(line, Qt.Key.Key_Return)
-    assert window.editor.snowflake.level == 1.5
+    assert window.editor.workspaces["snowflake"].scene.level == 1.5
     assert "must be float" in window.console_widget.log.toPlainText()
     qtbot.keyClick(line, Qt.Key.Key_Up)
     qtbot.keyClick(line, Qt.Key.Key_Up)
@@ -144,8 +144,8 @@ def test_backquote_toggles_the_console(window, qtbot):
 
 
 def test_panel_slider_sends_a_command(window):
-    window.snowflake_panel.slider.setValue(60)  # 3.0 at 20 steps a level
-    assert window.editor.snowflake.level == 3.0
+    window.workspace_panels["snowflake"].slider.setValue(60)  # 3.0 at 20 steps a level
+    assert window.editor.workspaces["snowflake"].scene.level == 3.0
     assert inputs(window)[-1] == "] snow.level 3"
 
 

@@ -9,7 +9,7 @@ def painter(window, qtbot):
     for line in ("workspace volume", "new 16 12 3", "slice z 1", "brush.color 255 0 0 255", "brush_size 1",
                  "brush_round 1"):
         assert window.run(line)
-    canvas = window.painter.canvas
+    canvas = window.workspace_panels["volume"].canvas
     canvas.update()
     qtbot.waitUntil(lambda: canvas.zoom > 0)
     return canvas
@@ -25,7 +25,7 @@ def painted(volume):
 
 
 def test_a_drag_paints_exact_voxels_as_one_recorded_command(window, painter, qtbot, tmp_path):
-    volume = window.editor.volume
+    volume = window.editor.workspaces["volume"].volume
     before = volume.digest()
     window.run(f"record {tmp_path / 'paint'}")
     qtbot.mousePress(painter, Qt.MouseButton.LeftButton, pos=at(painter, 2, 3))
@@ -59,31 +59,31 @@ def test_the_recorded_stroke_replays_to_the_same_voxels(window, painter, qtbot, 
     window.run("stop")
     fresh = Editor(clock=VirtualClock())
     assert fresh.execute(f"timedemo {tmp_path / 'replay'}")
-    assert fresh.volume.digest() == window.editor.volume.digest()
+    assert fresh.workspaces["volume"].volume.digest() == window.editor.workspaces["volume"].volume.digest()
 
 
 def test_fill_and_eyedropper_tools(window, painter, qtbot):
-    volume = window.editor.volume
+    volume = window.editor.workspaces["volume"].volume
     window.run("stroke z 1 1 0 255 0 255 0 5 15 5")  # a green line splits the slice
     painter.tool = "fill"
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 3, 2))
     assert (volume.data[1, :5, :, 0] == 255).all() and (volume.data[1, 6:, :, 3] == 0).all()
     painter.tool = "brush"
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, stateKey=Qt.KeyboardModifier.AltModifier, pos=at(painter, 4, 5))
-    assert window.editor.volume_view.brush == (0, 255, 0, 255)
+    assert window.editor.workspaces["volume"].view.brush == (0, 255, 0, 255)
 
 
 def test_painter_keys(window, painter, qtbot):
     painter.setFocus()
     qtbot.keyClick(painter, Qt.Key.Key_E)
-    assert window.editor.volume_view.index == 2
+    assert window.editor.workspaces["volume"].view.index == 2
     qtbot.keyClick(painter, Qt.Key.Key_E)  # clamped at the last slice
-    assert window.editor.volume_view.index == 2
+    assert window.editor.workspaces["volume"].view.index == 2
     qtbot.keyClick(painter, Qt.Key.Key_Q)
-    assert window.editor.volume_view.index == 1
+    assert window.editor.workspaces["volume"].view.index == 1
     qtbot.keyClick(painter, Qt.Key.Key_3)
     assert window.editor.console.registry.cvars["brush_size"].value == 3
-    assert window.painter.size.value() == 3
+    assert window.workspace_panels["volume"].size.value() == 3
     zoom = painter.zoom
     qtbot.keyClick(painter, Qt.Key.Key_J)
     assert painter.zoom > zoom
@@ -96,26 +96,26 @@ def test_number_keys_in_the_3d_view_rotate_and_load_samples(window, painter, qtb
     vp = window.viewport
     vp.setFocus()
     qtbot.keyClick(vp, Qt.Key.Key_5)
-    assert window.editor.volume.size == (16, 3, 12)  # about x: height and depth swap
+    assert window.editor.workspaces["volume"].volume.size == (16, 3, 12)  # about x: height and depth swap
     qtbot.keyClick(vp, Qt.Key.Key_9)
-    assert window.editor.volume.size == (64, 64, 64)
-    assert tuple(window.editor.volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
+    assert window.editor.workspaces["volume"].volume.size == (64, 64, 64)
+    assert tuple(window.editor.workspaces["volume"].volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
 
 
 def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):
     window.run("sample cornell_box 32")
     window.run("ui.slicepicker")
-    picker = window.picker
+    picker = window.workspace_panels["volume"].picker
     picker.move(0, 0)  # off the 3D view: the mouse goes to whatever window is on top
     picker.axis.setCurrentText("y")
-    assert window.editor.volume_view.highlight == ("y", 1)
+    assert window.editor.workspaces["volume"].view.highlight == ("y", 1)
     vp = window.viewport
     centre = QPoint(vp.width() // 2, vp.height() // 2)
     qtbot.mouseMove(vp, centre)
     qtbot.mouseMove(vp, centre + QPoint(1, 1))
-    highlight = window.editor.volume_view.highlight
+    highlight = window.editor.workspaces["volume"].view.highlight
     assert highlight is not None and highlight[0] == "y"
     qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=centre + QPoint(1, 1))
-    assert (window.editor.volume_view.axis, window.editor.volume_view.index) == highlight
-    assert window.picker is None and window.editor.volume_view.highlight is None
-    assert window.painter.axis.currentText() == "y"
+    assert (window.editor.workspaces["volume"].view.axis, window.editor.workspaces["volume"].view.index) == highlight
+    assert window.workspace_panels["volume"].picker is None and window.editor.workspaces["volume"].view.highlight is None
+    assert window.workspace_panels["volume"].axis.currentText() == "y"

@@ -18,19 +18,19 @@ def last_error(editor):
 
 def test_default_scene_is_embedded(editor):
     assert editor.workspace == "snowflake"
-    assert len(editor.snowflake.flakes) == 7 and editor.snowflake.level == 4
+    assert len(editor.workspaces["snowflake"].scene.flakes) == 7 and editor.workspaces["snowflake"].scene.level == 4
 
 
 def test_edit_commands(editor):
     e = editor
     assert e.execute("snow.clear; snow.add 0.5 -0.25 0.2; snow.add 1 1")
-    assert [(f.x, f.y, f.radius) for f in e.snowflake.flakes] == [(0.5, -0.25, 0.2), (1, 1, 0.3)]
+    assert [(f.x, f.y, f.radius) for f in e.workspaces["snowflake"].scene.flakes] == [(0.5, -0.25, 0.2), (1, 1, 0.3)]
     assert e.execute("snow.move 1 -1 2; snow.remove 0")
-    assert [(f.x, f.y) for f in e.snowflake.flakes] == [(-1, 2)]
+    assert [(f.x, f.y) for f in e.workspaces["snowflake"].scene.flakes] == [(-1, 2)]
     assert e.execute("snow.level 2.5; snow.step 0.25")
-    assert e.snowflake.level == 2.75
+    assert e.workspaces["snowflake"].scene.level == 2.75
     assert e.execute("snow.step 100")
-    assert e.snowflake.level == 8
+    assert e.workspaces["snowflake"].scene.level == 8
 
 
 @pytest.mark.parametrize("line, needle", [
@@ -46,10 +46,10 @@ def test_edit_commands(editor):
     ("workspace clouds", "not built yet"),
 ])
 def test_bad_arguments_change_nothing(editor, line, needle):
-    before = (editor.digest(), editor.version(), editor.snowflake_camera.height)
+    before = (editor.digest(), editor.version(), editor.workspaces["snowflake"].camera.height)
     assert not editor.execute(line)
     assert needle in last_error(editor)
-    assert (editor.digest(), editor.version(), editor.snowflake_camera.height) == before
+    assert (editor.digest(), editor.version(), editor.workspaces["snowflake"].camera.height) == before
 
 
 def test_digest_tracks_state(editor):
@@ -98,6 +98,6 @@ def test_missing_scene_file(editor, tmp_path):
 
 def test_saved_file_is_documented_format(editor, tmp_path):
     path = tmp_path / "s.json"
-    snowflake_scene.save(path, editor.snowflake)
+    snowflake_scene.save(path, editor.workspaces["snowflake"].scene)
     data = json.loads(path.read_text())
     assert data["format"] == "shadelab.snowflake" and data["version"] == 1 and len(data["flakes"]) == 7

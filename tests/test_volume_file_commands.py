@@ -52,7 +52,7 @@ def big_file(tmp_path) -> str:
 ])
 def test_a_refused_load_changes_nothing(editor, tmp_path, monkeypatch, make, needle):
     monkeypatch.setattr(vm, "MAX_BYTES", 4096)  # the model's limit is the reader's: refused before reading
-    before = (editor.volume.digest(), editor.volume.undo_depth)
+    before = (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth)
     assert not editor.execute(f"load {make(tmp_path)}")
     assert needle in [line.text for line in editor.console.log if line.level == "error"][-1]
-    assert (editor.volume.digest(), editor.volume.undo_depth) == before
+    assert (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth) == before

@@ -10,8 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from app.bench.harness import Method, Technique
+from app.commands import volume as volume_commands
 from app.console.console import Console
+from app.console.demo import ArgChecks
 from app.gl.volume import VolumeTexture
+from app.model.volume_workspace import VolumeWorkspace
 
 SIZES = (1, 4, 16, 64)
 QUICK_SIZES = (1, 16)
@@ -21,10 +24,9 @@ class PaintState:
     """A console with the volume commands on a fresh sample volume, and a texture mirroring it."""
 
     def __init__(self, ctx, full_upload: bool) -> None:
-        from app.editor import Editor
-
-        self.editor = Editor(configs=False)
-        self.console: Console = self.editor.console
+        self.console = Console()
+        self.workspace = VolumeWorkspace()
+        volume_commands.register(self.console, self.workspace, ArgChecks())
         self.texture = VolumeTexture(ctx)
         self.full_upload = full_upload
         self.frame = 0
@@ -33,20 +35,20 @@ class PaintState:
     def prepare(self, side: int) -> None:
         if self.loaded != side:
             self.console.execute(f"sample cornell_box {side}", echo=False)
-            self.texture.sync(self.editor.volume)
+            self.texture.sync(self.workspace.volume)
             self.loaded = side
 
     def stroke(self, size: int) -> None:
         """A short stroke at a new place each frame, so no frame repeats the last one's work."""
-        side = self.editor.volume.size[0]
+        side = self.workspace.volume.size[0]
         self.frame += 1
         z, u, v = (self.frame * 7) % side, (self.frame * 13) % side, (self.frame * 29) % side
         assert self.console.execute(f"stroke z {z} {size} 255 {self.frame % 256} 0 255 {u} {v} {u + 5} {v + 3}",
                                     echo=False)
         if self.full_upload:
-            self.texture.write_all(self.editor.volume)
+            self.texture.write_all(self.workspace.volume)
         else:
-            self.texture.sync(self.editor.volume)
+            self.texture.sync(self.workspace.volume)
 
 
 def _render(state: PaintState, _target, size, side) -> None:
@@ -55,7 +57,7 @@ def _render(state: PaintState, _target, size, side) -> None:
 
 
 def _output(state: PaintState, _target, _size, _side) -> np.ndarray:
-    gpu, cpu = state.texture.read(), state.editor.volume.data
+    gpu, cpu = state.texture.read(), state.workspace.volume.data
     return np.abs(gpu.astype(np.int16) - cpu).reshape(gpu.shape[0], -1).max(axis=1) / 255.0
 
 

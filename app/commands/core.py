@@ -1,58 +1,57 @@
-"""Commands every workspace shares: switching workspaces, scene files, undo, digests, help. A workspace
-plugs its scene files into `editor.scene_files` and its history into `editor.histories`."""
+"""Commands every workspace shares: switching workspaces, scene files, undo, digests. Each acts on the
+current workspace through what every workspace has (app/model/workspace.py), never on one by name."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import hashlib
 
 from app.console import files
+from app.console.console import Console
 from app.console.registry import CommandError
-from app.io import snowflake_scene
-from app.model.snowflake import SceneError
-from app.model.workspace import NAMES, WORKSPACES
-
-if TYPE_CHECKING:
-    from app.editor import Editor
+from app.model.workspace import Workspaces
+from app.model.workspaces import names
 
 
-def register(editor: "Editor") -> None:
-    console = editor.console
+def digest(console: Console, workspaces: Workspaces) -> dict[str, str]:
+    """Every workspace's parts (models and cameras), the cvars, and which workspace is current."""
+    cvars = console.registry.cvars
+    parts: dict[str, str] = {}
+    for state in workspaces:
+        parts.update(state.digest())
+    parts["cvars"] = hashlib.sha256("".join(f"{n}={c.serialise()};" for n, c in sorted(cvars.items()))
+                                    .encode()).hexdigest()[:16]
+    parts["workspace"] = workspaces.name
+    return parts
+
+
+def register(console: Console, workspaces: Workspaces) -> None:
     reg = console.registry
+    reg.scope = workspaces.name  # bare command names resolve in the current workspace first
 
-    @reg.command("workspace", "[name]", "Show or switch the workspace: " + ", ".join(NAMES),
-                 completer=lambda prefix: [n for n in NAMES if n.startswith(prefix)])
+    @reg.command("workspace", "[name]", "Show or switch the workspace: " + ", ".join(names()),
+                 completer=lambda prefix: [n for n in names() if n.startswith(prefix)])
     def workspace(name: str | None = None) -> None:
         if name is None:
-            console.print(f"workspace is {editor.workspace}")
+            console.print(f"workspace is {workspaces.name}")
             return
-        if name not in NAMES:
-            raise CommandError(f"no workspace {name!r}; choose one of {', '.join(NAMES)}")
-        if not WORKSPACES[NAMES.index(name)].built:
+        if name not in names():
+            raise CommandError(f"no workspace {name!r}; choose one of {', '.join(names())}")
+        if name not in workspaces:
             raise CommandError(f"the {name} workspace is not built yet")
-        editor.workspace = name
+        workspaces.name = reg.scope = name
 
-    def load_snowflakes(path: str) -> None:
-        try:
-            flakes, level = snowflake_scene.load(path)
-        except SceneError as exc:
-            raise CommandError(str(exc)) from None
-        editor.snowflake.replace(flakes, level)
-        console.print(f"loaded {len(flakes)} flakes from {path}")
-
-    editor.scene_files["snowflake"] = (load_snowflakes, lambda path: snowflake_scene.save(path, editor.snowflake))
-
-    def scene_file(which: int):
-        handlers = editor.scene_files.get(editor.workspace)
-        if handlers is None:
-            raise CommandError(f"the {editor.workspace} workspace has no scene files yet")
-        return handlers[which]
+    def scene_files():
+        state = workspaces.current
+        if state.files is None:
+            raise CommandError(f"the {state.name} workspace has no scene files")
+        return state.files
 
     @reg.command("scene.load", "path", "Load the current workspace's scene file (checked before anything changes)")
     def scene_load(path: str) -> None:
-        scene_file(0)(str(files.readable(console, path)))
+        scene_files().load(str(files.readable(console, path)))
 
     @reg.command("scene.save", "path", "Save the current workspace's scene (atomically)", recorded=False)
     def scene_save(path: str) -> None:
-        save = scene_file(1)
+        save = scene_files().save
         target = files.writable(console, path)
         try:
             save(target)
@@ -60,22 +59,18 @@ def register(editor: "Editor") -> None:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
         console.print(f"saved {target}")
 
-    def history_step(which: int, nothing: str) -> None:
-        # a workspace without its own history (the snowflake) undoes the volume, as before there were two
-        step = editor.histories.get(editor.workspace, editor.histories["volume"])[which]
-        if not step():
-            raise CommandError(nothing)
-
-    @reg.command("undo", "", "Undo the last edit of the current workspace (the volume's where it has none)")
+    @reg.command("undo", "", "Undo the last edit of the current workspace")
     def undo() -> None:
-        history_step(0, "nothing to undo")
+        if not workspaces.current.history.undo():
+            raise CommandError("nothing to undo")
 
     @reg.command("redo", "", "Redo the last undone edit of the current workspace")
     def redo() -> None:
-        history_step(1, "nothing to redo")
+        if not workspaces.current.history.redo():
+            raise CommandError("nothing to redo")
 
-    @reg.command("digest", "", "Print a digest of every workspace's model state", recorded=False)
-    def digest() -> None:
-        for name, value in editor.digest().items():
+    @reg.command("digest", "", "Print a digest of every workspace's model and camera, and the cvars",
+                 recorded=False)
+    def digest_() -> None:
+        for name, value in digest(console, workspaces).items():
             console.print(f"{name} {value}")
-

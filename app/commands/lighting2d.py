@@ -6,41 +6,31 @@ from __future__ import annotations
 import dataclasses
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from app.console import files
+from app.console.console import Console
+from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
 from app.io import scene2d as scene_file
 from app.io.json_file import storable
 from app.io.textures2d import BUILTIN, image
-from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D
-from app.model.lighting2d_history import History2D
+from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D, \
+    Shading2D
+from app.model.lighting2d_workspace import HULL_KEYS, Lighting2DWorkspace, fmt
+from app.model.workspace import SceneFiles
 from app.resources import SCENES
 
-if TYPE_CHECKING:
-    from app.editor import Editor
-
+DEFAULT_SCENE = SCENES / "j_concave_three_lights.json"
 LIGHT_TUPLES = {"position", "origin", "scale", "color"}
 LIGHT_FLOATS = {"rotation", "intensity", "radius", "cone_decay", "height"}
 LIGHT_BOOLS = {"enabled", "casts_shadows"}
 LIGHT_WORDS = {"kind", "shadow_type", "texture"}
-HULL_KEYS = ("position", "origin", "rotation", "scale", "enabled")
 
 
 def sample_names() -> list[str]:
     return sorted(p.stem for p in SCENES.glob("*.json"))
-
-
-def _fmt(value) -> str:
-    if isinstance(value, bool):
-        return str(int(value))
-    if isinstance(value, (tuple, list)):
-        return " ".join(_fmt(v) for v in value) if value else "none"
-    if value is None:
-        return "none"
-    return repr(value) if isinstance(value, float) else str(value)
 
 
 def _parse_light_value(key: str, values: list[str]):
@@ -69,42 +59,17 @@ def _parse_light_value(key: str, values: list[str]):
     raise CommandError(f"lights have no property {key!r}; there are {', '.join(fields)}")
 
 
-def light_commands(index: int, light: Light) -> list[str]:
-    """light.set lines that give light `index` every property of `light` (kind first)."""
-    return [f"light.set {index} {name} {_fmt(getattr(light, name))}"
-            for name in ("kind", "texture", *(f.name for f in dataclasses.fields(Light) if f.name not in ("kind", "texture")))
-            if name != "texture" or light.texture]
-
-
-def state_commands(editor: "Editor") -> list[str]:
-    """Commands that rebuild the 2D scene and its view exactly (floats as repr)."""
-    scene, cam = editor.lighting, editor.lighting_camera
-    lines = ["lighting.clear", f"ambient {_fmt(scene.ambient)}", f"lighting.background {scene.background}",
-             f"lighting.normalmap {scene.normal_map or 'none'}"]
-    for i, hull in enumerate(scene.hulls):
-        lines.append(f"hull.add {_fmt(tuple(hull.points.ravel().tolist()))}")
-        lines += [f"hull.set {i} {key} {_fmt(getattr(hull, key))}" for key in HULL_KEYS]
-    for i, light in enumerate(scene.lights):
-        lines.append(f"light.add {light.kind} {_fmt(light.position)}" + (f" {light.texture}" if light.texture else ""))
-        lines += light_commands(i, light)
-    lines.append(f"lighting.view {cam.cx!r} {cam.cy!r} {cam.height!r}")
-    return lines
-
-
-def register(editor: "Editor") -> None:
-    console = editor.console
-    reg = console.registry
-    checks = editor.demos.arg_checks
+def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) -> None:
+    reg = console.registry.scoped(state.name)
     # Index checks read the light and hull counts, a light.set check the light's other properties (a
     # texture for kind textured): after any of these a demo's checker cannot know them.
     checks.reshaped_by("lighting2d", "light.add", "light.remove", "light.set", "hull.add", "hull.remove",
                        "hull.points", "hull.insert", "hull.delete", "lighting.clear", "lighting.sample",
                        "scene.load", "undo", "redo")
-    history = editor.lighting_history = History2D(editor.lighting)
-    editor.histories["lighting2d"] = (history.undo, history.redo)
+    history = state.history
 
     def scene() -> Scene2D:
-        return editor.lighting
+        return state.scene
 
     @checks.add("light.remove", "lighting2d")
     def light_at(index: int) -> Light:
@@ -185,15 +150,16 @@ def register(editor: "Editor") -> None:
         for _where, name in loaded.images():
             check_image(name)
         edit()
-        editor.replace_lighting(loaded)
+        state.replace(loaded)
         console.print(f"loaded {len(loaded.lights)} lights and {len(loaded.hulls)} hulls from {Path(path).name}")
 
     def save(path) -> None:
-        cam = editor.lighting_camera
+        cam = state.camera
         scene().view = (cam.cx, cam.cy, cam.height)
         scene_file.save(path, scene())
 
-    editor.scene_files["lighting2d"] = (load, save)
+    state.files = SceneFiles(load, save, (".json",))
+    state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene
 
     @checks.add("ambient")
     def ambient_value(r: float, g: float, b: float) -> tuple[float, float, float]:
@@ -240,7 +206,7 @@ def register(editor: "Editor") -> None:
     @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
                  quiet=True)
     def view(*values: float) -> None:
-        cam = editor.lighting_camera
+        cam = state.camera
         cam.cx, cam.cy, cam.height = view_values(*values)
 
     # ---- lights ------------------------------------------------------------------------------------
@@ -304,7 +270,7 @@ def register(editor: "Editor") -> None:
     @reg.command("light.list", "", "List the lights and their properties", recorded=False)
     def light_list() -> None:
         for i, light in enumerate(scene().lights):
-            props = ", ".join(f"{f.name} {_fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
+            props = ", ".join(f"{f.name} {fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
             console.print(f"light {i}: {props}")
         console.print(f"{len(scene().lights)} lights")
 
@@ -448,7 +414,7 @@ def register(editor: "Editor") -> None:
         for i, hull in enumerate(scene().hulls):
             state = "valid" if hull.valid else f"INVALID ({hull.invalid_reason})"
             console.print(f"hull {i}: {len(hull.points)} points at ({hull.position[0]:g}, {hull.position[1]:g}), "
-                          f"rotation {hull.rotation:g}, scale {_fmt(hull.scale)}, "
+                          f"rotation {hull.rotation:g}, scale {fmt(hull.scale)}, "
                           f"{'enabled' if hull.enabled else 'disabled'}, {state}")
         console.print(f"{len(scene().hulls)} hulls")
 
@@ -460,3 +426,12 @@ def _check_image(name: str) -> None:
         image(name)
     except Lighting2DError as exc:
         raise CommandError(str(exc)) from None
+
+
+def render_settings(console: Console, state: Lighting2DWorkspace) -> Shading2D:
+    """The 2D renderer's settings from the cvars."""
+    cvars = console.registry.cvars
+    return Shading2D(method=cvars["r_shadowMethod"].value, samples=cvars["r_shadowSamples"].value,
+                     blur=cvars["r_shadowBlur"].value, lightmap_scale=cvars["r_lightmapScale"].value,
+                     flip_y=cvars["r_flipY"].value, normal_maps=cvars["r_normalMaps"].value,
+                     debug=cvars["r_debug2d"].value)

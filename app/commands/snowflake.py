@@ -1,27 +1,36 @@
-"""Snowflake verbs: every edit of the Koch scene and its view goes through these commands."""
+"""Snowflake verbs: every edit of the Koch scene and its view goes through these commands, and every
+edit of the scene is one undo step (the moves of one drag together)."""
 from __future__ import annotations
 
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError
+from app.io import snowflake_scene
 from app.io.json_file import storable
 from app.io.snowflake_scene import MAX_FLAKES
-from app.model.camera2d import Camera2D
-from app.model.snowflake import MAX_LEVEL, Flake, SnowflakeScene
+from app.model.snowflake import MAX_LEVEL, Flake, SceneError
+from app.model.snowflake_workspace import SnowflakeWorkspace
+from app.model.workspace import SceneFiles
 
 DEFAULT_RADIUS = 0.3
 
 
-def state_commands(scene: SnowflakeScene, camera: Camera2D) -> list[str]:
-    """Commands that rebuild the scene and its view exactly (floats as repr)."""
-    return ["snow.clear", *(f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes),
-            f"snow.level {scene.level!r}", f"snow.view {camera.cx!r} {camera.cy!r} {camera.height!r}"]
-
-
-def register(console: Console, scene: SnowflakeScene, camera: Camera2D, checks: ArgChecks) -> None:
+def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> None:
     """The commands, and their checks for demos (`checks`)."""
-    reg = console.registry
-    checks.reshaped_by("snowflake", "snow.add", "snow.remove", "snow.clear", "scene.load")
+    reg = console.registry.scoped(state.name)
+    scene, camera, history = state.scene, state.camera, state.history
+    checks.reshaped_by("snowflake", "snow.add", "snow.remove", "snow.clear", "scene.load", "undo", "redo")
+
+    def load(path: str) -> None:
+        try:
+            flakes, level = snowflake_scene.load(path)
+        except SceneError as exc:
+            raise CommandError(str(exc)) from None
+        history.checkpoint()
+        scene.replace(flakes, level)
+        console.print(f"loaded {len(flakes)} flakes from {path}")
+
+    state.files = SceneFiles(load, lambda path: snowflake_scene.save(path, scene), (".json",))
 
     @checks.add("snow.level")
     def level_value(value: float | None = None) -> float | None:
@@ -46,13 +55,15 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D, checks: 
     def level(value: float | None = None) -> None:
         if level_value(value) is None:
             console.print(f"snow.level is {scene.level:g}")
-        else:
+        elif value != scene.level:
+            history.checkpoint()
             scene.level = value
 
     @reg.command("snow.step", "delta:float", "Change the level by delta, clamped to the valid range (keys w/s)")
     def step(delta: float) -> None:
         target = min(MAX_LEVEL, max(0.0, round(scene.level + delta, 6)))
         if target != scene.level:
+            history.checkpoint()
             scene.level = target
 
     @reg.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)")
@@ -60,20 +71,24 @@ def register(console: Console, scene: SnowflakeScene, camera: Camera2D, checks: 
         new_flake(x, y, radius)
         if len(scene.flakes) >= MAX_FLAKES:
             raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
+        history.checkpoint()
         console.print(f"flake {scene.add(x, y, radius)} at ({x:g}, {y:g})")
 
     @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)
     def move(index: int, x: float, y: float) -> None:
         flake_at(index, x, y)
+        history.checkpoint(("snow.move", index))  # a drag's moves: one step
         scene.move(index, x, y)
 
     @reg.command("snow.remove", "index:int", "Remove a flake")
     def remove(index: int) -> None:
         flake_at(index)
+        history.checkpoint()
         scene.remove(index)
 
     @reg.command("snow.clear", "", "Remove every flake")
     def clear() -> None:
+        history.checkpoint()
         scene.clear()
 
     @reg.command("snow.list", "", "List the flakes")

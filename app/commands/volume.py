@@ -3,21 +3,19 @@ tests rely on them. Colour components are 0-255 integers; slices are (axis, inde
 from __future__ import annotations
 
 import math
-import shlex
-from pathlib import Path
-from typing import TYPE_CHECKING
 
 from app.console import files
+from app.console.console import Console
+from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
 from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
 from app.model import volume as volume_model
 from app.model.camera3d import OrbitCamera
-from app.model.render_modes import MODES
+from app.model.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume import AXES, MAX_COORD, MAX_SIDE, Volume
 from app.model.volume_samples import SAMPLES, make
-
-if TYPE_CHECKING:
-    from app.editor import Editor
+from app.model.volume_workspace import VolumeWorkspace
+from app.model.workspace import SceneFiles
 
 MAX_SAMPLE = 512
 
@@ -43,30 +41,9 @@ def _points(coords: list[int]) -> list[tuple[int, int]]:
     return list(zip(coords[0::2], coords[1::2]))
 
 
-def state_commands(editor: "Editor", demo_path: Path) -> list[str]:
-    """Commands that rebuild the volume and its view; voxels other than the default sample go into
-    `<demo>.start.r3` beside the demo."""
-    volume, v = editor.volume, editor.volume_view
-    if volume.digest() == Volume(make("coords3d")).digest():
-        lines = ["sample coords3d"]
-    else:
-        snapshot = demo_path.with_suffix(".start.r3")
-        write_volume(snapshot, volume.data)
-        lines = [f"load {shlex.quote(str(snapshot.resolve()))}"]
-    return lines + [
-        f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
-        f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
-        f"vol.background {' '.join(map(str, v.background))}",
-        f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}",
-        f"stereo {int(v.stereo)}", f"magnify {int(v.magnify)}", f"wireframe {int(v.wireframe)}",
-    ]
-
-
-def register(editor: "Editor") -> None:
-    console = editor.console
-    reg = console.registry
-    view = editor.volume_view
-    checks = editor.demos.arg_checks
+def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> None:
+    reg = console.registry.scoped(state.name)
+    view = state.view
     # Their voxel and slice checks read the volume's size: after any of these a demo's checker cannot know it.
     checks.reshaped_by("volume", "new", "load", "sample", "rotate", "undo", "redo")
     volume_files = lambda p: files.complete(p, SUPPORTED)  # noqa: E731
@@ -93,18 +70,12 @@ def register(editor: "Editor") -> None:
     console.batch_listeners.append(on_batch)
 
     def volume() -> Volume:
-        return editor.volume
+        return state.volume
 
     def replace(data, what: str) -> None:
         volume().replace(data)
-        clamp_slice()
+        state.clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
-
-    def clamp_slice() -> None:
-        """After anything that may change the volume's shape, keep the edited slice inside it."""
-        view.index = min(view.index, volume().depth(view.axis) - 1)
-        if view.highlight and view.highlight[1] >= volume().depth(view.highlight[0]):
-            view.highlight = None
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
@@ -121,15 +92,24 @@ def register(editor: "Editor") -> None:
             raise CommandError(str(exc)) from None
         replace(data, f"loaded {path}")
 
+    def write(path: str) -> None:
+        try:
+            write_volume(path, volume().data)
+        except FormatError as exc:
+            raise CommandError(str(exc)) from None
+
     @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically)", recorded=False,
                  completer=volume_files)
     def save(path: str) -> None:
         target = files.writable(console, path)
         try:
-            write_volume(target, volume().data)
-        except (FormatError, OSError) as exc:
+            write(target)
+        except OSError as exc:
             raise CommandError(str(exc)) from None
         console.print(f"saved {target}")
+
+    # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3
+    state.files = SceneFiles(load, write, (".r3", *(s for s in SUPPORTED if s != ".r3")))
 
     @checks.add("sample")
     def sample_args(name: str, size: int = 64) -> tuple[str, int]:
@@ -192,19 +172,11 @@ def register(editor: "Editor") -> None:
                  completer=lambda p: [a for a in AXES if a.startswith(p)])
     def rotate(axis: str) -> None:
         volume().rotate(_axis(axis))
-        clamp_slice()
+        state.clamp_slice()
 
     @reg.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)")
     def smooth() -> None:
         volume().smooth()
-
-    def history_step(step) -> bool:
-        done = step()
-        if done:
-            clamp_slice()
-        return done
-
-    editor.histories["volume"] = (lambda: history_step(volume().undo), lambda: history_step(volume().redo))
 
     checks.add("pick", "volume")(lambda x, y, z: volume().pick(x, y, z))
 
@@ -309,3 +281,12 @@ def register(editor: "Editor") -> None:
     @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)")
     def background(r: int, g: int, b: int) -> None:
         view.background = _rgba(r, g, b, 255)[:3]
+
+
+def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:
+    """The ray tracer's settings from the cvars and the view."""
+    cvars, view = console.registry.cvars, state.view
+    return TraceSettings(mode=view.mode, steps=cvars["cl_steps"].value, shadow_steps=cvars["cl_shadowSteps"].value,
+                         sample_range=cvars["cl_sampleRange"].value, distance_scale=cvars["cl_distanceScale"].value,
+                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]),
+                         frame_budget_ms=cvars["r_frameBudgetMs"].value)

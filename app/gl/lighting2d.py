@@ -18,7 +18,7 @@ from app.gl.lighting2d_geometry import LightGeometry, disc_samples
 from app.gl.vertex_arrays import VertexArrays
 from app.io.textures2d import image
 from app.model.camera2d import Camera2D
-from app.model.lighting2d import SHADOW_METHODS, Light, Scene2D
+from app.model.lighting2d import SHADOW_METHODS, Light, Scene2D, Shading2D
 from app.model.lighting2d_index import SceneIndex, light_bounds
 
 METHODS = SHADOW_METHODS
@@ -26,17 +26,6 @@ KINDS = {"point": 0, "spot": 1, "textured": 2}
 SHADOW_TYPES = {"solid": 0, "illuminated": 1, "occluded": 2}
 ALPHA = (False, False, False, True)
 ALL = (True, True, True, True)
-
-
-@dataclass(frozen=True)
-class Shading2D:
-    method: str = "exact"
-    samples: int = 16             # jitter: hard shadows averaged
-    blur: float = 0.5             # blur: Gaussian sigma as a share of the light's radius
-    lightmap_scale: float = 1.0   # the lightmap's resolution relative to the screen
-    flip_y: bool = False          # a y-down world (screen coordinates), as with Penumbra's SpriteBatch transform
-    normal_maps: bool = True
-    disc_samples: int = 64        # exact: samples of the disc where a hull touches it
 
 
 @dataclass

@@ -1,7 +1,7 @@
 """The volume ray tracer: every Tex3Dtrace mode (app/model/render_modes.py), one pass or two."""
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import moderngl
 import numpy as np
@@ -11,6 +11,7 @@ from app.gl.vertex_arrays import VertexArrays
 from app.gl.volume import VolumeTexture
 from app.model.volume import VolumeWatch
 from app.model import render_modes as rm
+from app.model.render_modes import TraceSettings
 from app.model.volume_view import AXIS_INDEX, VolumeView, box_extents
 
 EDITED_SLICE = (0.35, 0.85, 1.0, 0.10)   # faint: where the painter works
@@ -24,21 +25,6 @@ FACES = np.array([0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3,
 EDGES = np.array([0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7], dtype="i4")
 WIREFRAME = (0.85, 0.87, 0.92, 1.0)
 LEFT_EYE, RIGHT_EYE, ALL = (True, False, False, True), (False, True, True, True), (True, True, True, True)
-
-
-@dataclass(frozen=True)
-class TraceSettings:
-    mode: int = 5
-    steps: float = 128.0
-    shadow_steps: int = 20
-    sample_range: float = 1.0
-    distance_scale: float = 1.0
-    shadows: bool = True
-    lights: tuple = rm.LIGHTS
-    debug_samples: bool = False  # output each pixel's texture-sample count (a float target is needed)
-    slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
-    shadow_offset: float = rm.SHADOW_OFFSET
-    eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
 
 
 class DistanceTexture:

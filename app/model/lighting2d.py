@@ -289,3 +289,16 @@ class Scene2D:
             h.update(hull.points.tobytes())
             h.update(repr((hull.position, hull.origin, hull.rotation, hull.scale, hull.enabled)).encode())
         return h.hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class Shading2D:
+    """The 2D renderer's settings (built from cvars by the commands, or by a bench)."""
+    method: str = "exact"
+    samples: int = 16             # jitter: hard shadows averaged
+    blur: float = 0.5             # blur: Gaussian sigma as a share of the light's radius
+    lightmap_scale: float = 1.0   # the lightmap's resolution relative to the screen
+    flip_y: bool = False          # a y-down world (screen coordinates), as with Penumbra's SpriteBatch transform
+    normal_maps: bool = True
+    disc_samples: int = 64        # exact: samples of the disc where a hull touches it
+    debug: bool = False           # the editor's overlay: hulls, lights and their reach as wireframe

@@ -45,3 +45,20 @@ MODES = {m.number: m for m in (
     Mode(10, "two lights", "phong", shadows="constant", lights=2),
     Mode(11, "reflections", "phong", shadows="constant", reflections=True),
 )}
+
+
+@dataclass(frozen=True)
+class TraceSettings:
+    """The ray tracer's settings (built from cvars and the view by the commands, or by a bench)."""
+    mode: int = 5
+    steps: float = 128.0
+    shadow_steps: int = 20
+    sample_range: float = 1.0
+    distance_scale: float = 1.0
+    shadows: bool = True
+    lights: tuple = LIGHTS
+    debug_samples: bool = False  # output each pixel's texture-sample count (a float target is needed)
+    slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
+    shadow_offset: float = SHADOW_OFFSET
+    eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
+    frame_budget_ms: float = 50.0  # while the view moves, the most accurate measured level that fits this

@@ -1,21 +1,82 @@
-"""The editor's workspaces, in switcher order; one is current at a time."""
+"""What every workspace's state is, and the editor's list of them in switcher order.
+
+A workspace is one object (DESIGN.md rule 7): its model, its camera or view, its undo history, its part of
+the editor's version and digest, the commands that rebuild it at the start of a demo, and its scene files.
+Each layer keeps one mapping from the workspace's name to its part there (app/commands, app/gl,
+app/views, app/bench): docs/architecture.md lists them."""
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
+from typing import Callable, ClassVar, Protocol
+
+
+class History(Protocol):
+    def undo(self) -> bool: ...  # False: nothing to undo
+    def redo(self) -> bool: ...
+
+
+@dataclass(frozen=True)
+class SceneFiles:
+    """How a workspace's scene goes to and from a file; its commands fill it in (they know the formats
+    and the file policy). `suffixes[0]` names a demo's snapshot of the scene."""
+    load: Callable[[str], None]
+    save: Callable[[str], None]
+    suffixes: tuple[str, ...]
+
+
+class Workspace:
+    """Base of every workspace's state; subclasses name themselves and hold their model."""
+
+    name: ClassVar[str]
+    history: History
+    files: SceneFiles | None = None
+
+    def version(self) -> tuple:
+        """Changes whenever anything the workspace draws changed: hosts redraw when it differs."""
+        raise NotImplementedError
+
+    def digest(self) -> dict[str, str]:
+        """Short hashes of the model and of the camera, by part name (the `digest` command prints them)."""
+        raise NotImplementedError
+
+    def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
+        """Commands that rebuild this state from any other: a demo's opening lines. `snapshot()` saves the
+        scene beside the demo and returns its path, for state too big for command lines."""
+        raise NotImplementedError
+
+
+def short_hash(*values) -> str:
+    return hashlib.sha256(repr(values).encode()).hexdigest()[:16]
 
 
 @dataclass(frozen=True)
 class WorkspaceInfo:
     name: str
     title: str
-    built: bool = False  # False until its issue lands: the switcher shows it disabled
+    state: type[Workspace] | None = None  # None until its issue lands: the switcher shows it disabled
+
+    @property
+    def built(self) -> bool:
+        return self.state is not None
 
 
-WORKSPACES = (
-    WorkspaceInfo("lighting2d", "2D lighting", built=True),
-    WorkspaceInfo("volume", "Volume", built=True),
-    WorkspaceInfo("clouds", "Clouds"),
-    WorkspaceInfo("lights3d", "3D lights"),
-    WorkspaceInfo("snowflake", "Snowflake", built=True),
-)
-NAMES = tuple(w.name for w in WORKSPACES)
+class Workspaces:
+    """The editor's workspaces in switcher order, by name; one of them is current."""
+
+    def __init__(self, states: list[Workspace], current: str) -> None:
+        self._states = {state.name: state for state in states}
+        self.name = current  # the current workspace's
+
+    def __iter__(self):
+        return iter(self._states.values())
+
+    def __getitem__(self, name: str) -> Workspace:
+        return self._states[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._states
+
+    @property
+    def current(self) -> Workspace:
+        return self._states[self.name]

@@ -8,15 +8,12 @@ import pyqtgraph as pg
 from PySide6.QtCore import QProcess
 from PySide6.QtWidgets import QFileDialog, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 
-from app.bench import TECHNIQUES, report
+from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE, report
 from app.gl.shader_source import default_cache_dir
 
 
 def bench_dir() -> Path:
     return default_cache_dir().parent / "bench"
-
-
-TECHNIQUE_OF = {"snowflake": "snowflake", "volume": "volume"}  # the workspace's measured technique
 
 
 class BenchDock(QWidget):
@@ -42,7 +39,7 @@ class BenchDock(QWidget):
         self.process: QProcess | None = None
 
     def show_workspace(self, workspace: str) -> None:
-        name = TECHNIQUE_OF.get(workspace, workspace)
+        name = WORKSPACE_TECHNIQUE.get(workspace, workspace)
         self.technique = name
         self.run_button.setEnabled(name in TECHNIQUES)
         csv_path = bench_dir() / f"{name}.csv"

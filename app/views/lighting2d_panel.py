@@ -71,9 +71,9 @@ class _Placement:
 
 
 class Lighting2DPanel(QWidget):
-    def __init__(self, editor, run, tool=None, parent=None) -> None:
+    def __init__(self, editor, state, run, tool=None, parent=None) -> None:
         super().__init__(parent)
-        self.editor = editor
+        self.editor, self.state = editor, state
         self.run = run
         self.tool = tool
         self._syncing = False
@@ -167,16 +167,16 @@ class Lighting2DPanel(QWidget):
             self.run(f"lighting.sample {self.sample.itemText(index)}")
 
     def _add_light(self, kind: str) -> None:
-        cam = self.editor.lighting_camera
+        cam = self.state.camera
         self.run(f"light.add {kind} {cam.cx:.3f} {cam.cy:.3f}")
-        self.editor.lighting_selection = ("light", len(self.editor.lighting.lights) - 1)
+        self.state.selection = ("light", len(self.state.scene.lights) - 1)
         self.sync()
 
     def _selected(self, kind: str):
-        sel = self.editor.lighting_selection
+        sel = self.state.selection
         if sel is None or sel[0] != kind:
             return None
-        items = self.editor.lighting.lights if kind == "light" else self.editor.lighting.hulls
+        items = self.state.scene.lights if kind == "light" else self.state.scene.hulls
         return sel[1] if 0 <= sel[1] < len(items) else None
 
     def _light(self, key: str, value: str) -> None:
@@ -194,7 +194,7 @@ class Lighting2DPanel(QWidget):
     def sync(self) -> None:
         self._syncing = True
         try:
-            scene = self.editor.lighting
+            scene = self.state.scene
             cvars = self.editor.console.registry.cvars
             self.ambient.show_color(scene.ambient)
             self.method.setCurrentText(cvars["r_shadowMethod"].value)

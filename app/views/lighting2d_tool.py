@@ -15,6 +15,7 @@ import numpy as np
 from PySide6.QtCore import Qt
 
 from app.gl.lighting2d_overlay import HANDLE_PX, handles
+from app.views.tool import ViewportTool
 
 PICK_PX = 8.0
 ZOOM_STEP = 1.15
@@ -36,10 +37,9 @@ def _segment_distance(p, a, b) -> float:
     return float(np.linalg.norm(p - (a + t * ab)))
 
 
-class Lighting2DTool:
-    def __init__(self, viewport, run) -> None:
-        self.viewport = viewport
-        self.run = run
+class Lighting2DTool(ViewportTool):
+    def __init__(self, viewport, state, run) -> None:
+        super().__init__(viewport, state, run)
         self.drawing = False
         self._drag = None      # (kind, data) of the gesture in progress
         self._moved = False
@@ -50,20 +50,20 @@ class Lighting2DTool:
 
     @property
     def selection(self):
-        return self.editor.lighting_selection
+        return self.state.selection
 
     def select(self, selection) -> None:
-        self.editor.lighting_selection = selection
+        self.state.selection = selection
         self.viewport.selection_changed()
 
     # ---- geometry --------------------------------------------------------------------------------
 
     def _unit(self) -> float:
-        return self.editor.lighting_camera.world_per_pixel(self.viewport.height())
+        return self.state.camera.world_per_pixel(self.viewport.height())
 
     def _world(self, event) -> tuple[float, float]:
         p = event.position()
-        cam = self.editor.lighting_camera
+        cam = self.state.camera
         x, y = cam.to_world(p.x(), p.y(), self.viewport.width(), self.viewport.height())
         if self.editor.console.registry.cvars["r_flipY"].value:
             y = 2 * cam.cy - y
@@ -72,9 +72,9 @@ class Lighting2DTool:
     def _hit_handle(self, x: float, y: float):
         """The selection's handle under the cursor: ('rotate'|'scale'|'centre', None) or ('vertex', k)."""
         sel = self.selection
-        if sel is None or not 0 <= sel[1] < len(self.editor.lighting.lights if sel[0] == "light" else self.editor.lighting.hulls):
+        if sel is None or not 0 <= sel[1] < len(self.state.scene.lights if sel[0] == "light" else self.state.scene.hulls):
             return None
-        h = handles(self.editor.lighting, sel, self._unit())
+        h = handles(self.state.scene, sel, self._unit())
         reach = (HANDLE_PX + 3) * self._unit()
         p = np.array([x, y])
         for name in ("rotate", "scale"):
@@ -87,7 +87,7 @@ class Lighting2DTool:
         return None
 
     def _pick(self, x: float, y: float):
-        scene = self.editor.lighting
+        scene = self.state.scene
         reach = PICK_PX * self._unit()
         for i in reversed(range(len(scene.lights))):
             light = scene.lights[i]
@@ -107,7 +107,7 @@ class Lighting2DTool:
         button = event.button()
         if self.drawing:
             if button == Qt.MouseButton.LeftButton:
-                pending = self.editor.lighting_pending
+                pending = self.state.pending
                 if len(pending) >= 3 and math.dist(pending[0], (x, y)) <= PICK_PX * self._unit():
                     self.finish_hull()
                 else:
@@ -131,19 +131,19 @@ class Lighting2DTool:
         if picked is not None:
             self.select(picked)
             kind, i = picked
-            item = self.editor.lighting.lights[i] if kind == "light" else self.editor.lighting.hulls[i]
+            item = self.state.scene.lights[i] if kind == "light" else self.state.scene.hulls[i]
             self._drag = ("move", (kind, i, item.position, (x, y)))
             return
         self.select(None)
         self._start_pan(event)
 
     def _start_pan(self, event) -> None:
-        cam = self.editor.lighting_camera
+        cam = self.state.camera
         self._drag = ("pan", (event.position(), (cam.cx, cam.cy)))
 
     def _start_handle(self, handle, x, y) -> None:
         kind, i = self.selection
-        item = self.editor.lighting.lights[i] if kind == "light" else self.editor.lighting.hulls[i]
+        item = self.state.scene.lights[i] if kind == "light" else self.state.scene.hulls[i]
         centre = np.array(item.position)
         start = np.array([x, y]) - centre
         name, vertex = handle
@@ -165,7 +165,7 @@ class Lighting2DTool:
             if abs(d.x()) + abs(d.y()) < 3 and not self._moved:
                 return
             self._moved = True
-            cam = self.editor.lighting_camera
+            cam = self.state.camera
             units = self._unit()
             dy = -d.y() if self.editor.console.registry.cvars["r_flipY"].value else d.y()
             self.run(f"lighting.view {cx - d.x() * units:.5f} {cy + dy * units:.5f} {cam.height:.5f}")
@@ -176,17 +176,17 @@ class Lighting2DTool:
             self.run(f"{kind}.move {i} {px + x - sx:.4f} {py + y - sy:.4f}")
         elif what == "rotate":
             kind, i, rotation, angle0 = data
-            item = self.editor.lighting.lights[i] if kind == "light" else self.editor.lighting.hulls[i]
+            item = self.state.scene.lights[i] if kind == "light" else self.state.scene.hulls[i]
             angle = math.atan2(y - item.position[1], x - item.position[0])
             self.run(f"{kind}.set {i} rotation {rotation + angle - angle0:.6f}")
         elif what == "scale":
             kind, i, (s0x, s0y), dist0 = data
-            item = self.editor.lighting.lights[i] if kind == "light" else self.editor.lighting.hulls[i]
+            item = self.state.scene.lights[i] if kind == "light" else self.state.scene.hulls[i]
             k = math.dist((x, y), item.position) / dist0
             self.run(f"{kind}.set {i} scale {s0x * k:.5f} {s0y * k:.5f}")
         elif what == "vertex":
             i, vertex = data
-            local = _local(self.editor.lighting.hulls[i], x, y)
+            local = _local(self.state.scene.hulls[i], x, y)
             if local is not None:
                 self.run(f"hull.vertex {i} {vertex} {local[0]:.5f} {local[1]:.5f}")
 
@@ -204,7 +204,7 @@ class Lighting2DTool:
         if sel is None or sel[0] != "hull":
             return
         x, y = self._world(event)
-        hull = self.editor.lighting.hulls[sel[1]]
+        hull = self.state.scene.hulls[sel[1]]
         world = hull.world()
         p = np.array([x, y])
         dists = [_segment_distance(p, world[k], world[(k + 1) % len(world)]) for k in range(len(world))]
@@ -221,7 +221,7 @@ class Lighting2DTool:
         return True
 
     def wheel(self, event) -> None:
-        cx, cy, h = self.editor.lighting_camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,
+        cx, cy, h = self.state.camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,
                                                             ZOOM_STEP, lo=1e-2, hi=1e7)
         self.run(f"lighting.view {cx:.5f} {cy:.5f} {h:.5f}")
 
@@ -246,20 +246,20 @@ class Lighting2DTool:
 
     def start_drawing(self) -> None:
         self.drawing = True
-        self.editor.lighting_pending = []
+        self.state.pending = []
         self.select(None)
 
     def cancel_drawing(self) -> None:
         self.drawing = False
-        self.editor.lighting_pending = []
+        self.state.pending = []
         self.viewport.selection_changed()
 
     def finish_hull(self) -> None:
-        points = self.editor.lighting_pending
+        points = self.state.pending
         self.drawing = False
-        self.editor.lighting_pending = []
+        self.state.pending = []
         if len(points) >= 3:
             self.run("hull.add " + " ".join(f"{x:.4f} {y:.4f}" for x, y in points))
-            self.select(("hull", len(self.editor.lighting.hulls) - 1))
+            self.select(("hull", len(self.state.scene.hulls) - 1))
         else:
             self.viewport.selection_changed()

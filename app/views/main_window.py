@@ -1,26 +1,21 @@
-"""The main window: the viewport in the middle, docks around it, a workspace switcher, frame stats."""
+"""The main window: the viewport in the middle, docks around it, a workspace switcher, frame stats. It
+knows no workspace by name: their tools and panels come from app/views/workspace_views.py."""
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer
-from PySide6.QtGui import QAction, QActionGroup, QColor, QKeySequence
-from PySide6.QtWidgets import QColorDialog, QDockWidget, QFrame, QLabel, QMainWindow, QScrollArea, QStackedWidget
+from PySide6.QtGui import QAction, QActionGroup, QKeySequence
+from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QStackedWidget
 
 from app.console import files
 from app.editor import Editor
-from app.model.workspace import WORKSPACES
+from app.model.workspaces import WORKSPACES
 from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
-from app.views.lighting2d_panel import Lighting2DPanel
-from app.views.lighting2d_tool import Lighting2DTool
-from app.views.snowflake_panel import SnowflakePanel
-from app.views.slice_painter import SlicePainter
-from app.views.slice_picker import SlicePicker
-from app.views.snowflake_tool import SnowflakeTool
 from app.views.viewport import Viewport
-from app.views.volume_tool import VolumeTool
 from app.views.weak_callback import weak_callback
+from app.views.workspace_views import VIEWS
 
-EDITOR_DOCK_WIDTH = {"snowflake": 260, "volume": 520, "lighting2d": 300}
+DEFAULT_DOCK_WIDTH = 260
 
 
 class MainWindow(QMainWindow):
@@ -33,25 +28,18 @@ class MainWindow(QMainWindow):
 
         self.viewport = Viewport(self.editor)
         self.setCentralWidget(self.viewport)
-        self.tools = {"snowflake": SnowflakeTool(self.viewport, self.run), "volume": VolumeTool(self.viewport, self.run),
-                      "lighting2d": Lighting2DTool(self.viewport, self.run)}
-
         self.panels = QStackedWidget()
-        self.snowflake_panel = SnowflakePanel(self.editor, self.run)
-        self.painter = SlicePainter(self.editor, self.run)
         self.placeholder = QLabel(alignment=Qt.AlignmentFlag.AlignCenter, wordWrap=True)
-        self.lighting_panel = Lighting2DPanel(self.editor, self.run, self.tools["lighting2d"])
-        self.viewport.view_changed.connect(self.lighting_panel.sync)
-        # in a scroll area: showing a selection's properties must not resize the dock (and the view under
-        # the mouse in the middle of a drag)
-        lighting_scroll = QScrollArea(widgetResizable=True, frameShape=QFrame.Shape.NoFrame)
-        lighting_scroll.setWidget(self.lighting_panel)
-        self.workspace_panels = {"snowflake": self.snowflake_panel, "volume": self.painter,
-                                 "lighting2d": lighting_scroll}
-        for panel in (self.snowflake_panel, self.painter, lighting_scroll, self.placeholder):
-            self.panels.addWidget(panel)
-        self.picker: SlicePicker | None = None
-        self._register_ui_commands()
+        self.panels.addWidget(self.placeholder)
+        self.tools, self.workspace_panels = {}, {}
+        for state in self.editor.workspaces:
+            views = VIEWS.get(state.name)
+            if views is None:
+                continue
+            self.tools[state.name] = tool = views.tool(self.viewport, state, self.run) if views.tool else None
+            if views.panel:
+                self.workspace_panels[state.name] = panel = views.panel(self, state, tool)
+                self.panels.addWidget(panel)
         self.console_widget = ConsoleWidget(self.editor.console, files.history_file())
         self.bench = BenchDock()
         self.docks = {
@@ -98,33 +86,6 @@ class MainWindow(QMainWindow):
         self.editor.console.execute("writeconfig", echo=False)
         super().closeEvent(event)
 
-    def _register_ui_commands(self) -> None:
-        """Dialogs the binds open; what they choose comes back as ordinary commands."""
-        reg = self.editor.console.registry
-        view = self.editor.volume_view
-
-        def colour_dialog(title: str, rgba, alpha: bool) -> QColor | None:
-            options = QColorDialog.ColorDialogOption.ShowAlphaChannel if alpha else QColorDialog.ColorDialogOption(0)
-            colour = QColorDialog.getColor(QColor(*rgba), self, title, options)
-            return colour if colour.isValid() else None
-
-        @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c)", recorded=False)
-        def brush_colour() -> None:
-            if colour := colour_dialog("Brush colour", view.brush, alpha=True):
-                self.run(f"brush.color {colour.red()} {colour.green()} {colour.blue()} {colour.alpha()}")
-
-        @reg.command("ui.background", "", "Choose the 3D view's background colour (key c)", recorded=False)
-        def background() -> None:
-            if colour := colour_dialog("Background colour", view.background, alpha=False):
-                self.run(f"vol.background {colour.red()} {colour.green()} {colour.blue()}")
-
-        @reg.command("ui.slicepicker", "", "Open the slice picker (key v)", recorded=False)
-        def slice_picker() -> None:
-            if self.picker is None:
-                self.picker = SlicePicker(self.editor, self.tools["volume"], self.run, self)
-                self.picker.finished.connect(lambda _r: setattr(self, "picker", None))
-            self.picker.show()
-
     def _dock(self, title: str, widget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
         dock.setObjectName(title)
@@ -138,8 +99,9 @@ class MainWindow(QMainWindow):
         group = QActionGroup(self)
         actions = {}
         for info in WORKSPACES:
-            action = QAction(info.title, self, checkable=True, enabled=info.built)
-            action.setToolTip(info.title if info.built else f"{info.title}: not built yet")
+            built = info.name in self.editor.workspaces
+            action = QAction(info.title, self, checkable=True, enabled=built)
+            action.setToolTip(info.title if built else f"{info.title}: not built yet")
             action.triggered.connect(lambda _=False, n=info.name: self.run(f"workspace {n}"))
             group.addAction(action)
             bar.addAction(action)
@@ -175,16 +137,17 @@ class MainWindow(QMainWindow):
         if self._drawn_version is None or workspace != self._drawn_version[0]:
             self._show_workspace(workspace)
         self._drawn_version = version
-        self.snowflake_panel.sync()
-        self.painter.sync()
-        self.lighting_panel.sync()
+        panel = self.workspace_panels.get(workspace)
+        if panel is not None:  # only the workspace in view: the others sync when shown
+            panel.sync()
         self.viewport.update()
 
     def _show_workspace(self, name: str) -> None:
         self.workspace_actions[name].setChecked(True)
         self.viewport.tool = self.tools.get(name)
         self.panels.setCurrentWidget(self.workspace_panels.get(name, self.placeholder))
-        self.resizeDocks([self.docks["editor"]], [EDITOR_DOCK_WIDTH.get(name, 260)], Qt.Orientation.Horizontal)
+        width = VIEWS[name].dock_width if name in VIEWS else DEFAULT_DOCK_WIDTH
+        self.resizeDocks([self.docks["editor"]], [width], Qt.Orientation.Horizontal)
         self.bench.show_workspace(name)
 
     def _gl_ready(self, renderer: str) -> None:
@@ -194,3 +157,4 @@ class MainWindow(QMainWindow):
     def _frame_stats(self, ms: float) -> None:
         self.frame_label.setText(f"{ms:.1f} ms/frame · {self.viewport.average_fps():.0f} frames/s "
                                  f"(mean of last {len(self.viewport.frame_ms)}) ")
+

@@ -26,9 +26,9 @@ class SliceCanvas(QWidget):
 
     command = Signal(str)
 
-    def __init__(self, editor, parent=None) -> None:
+    def __init__(self, editor, state, parent=None) -> None:
         super().__init__(parent)
-        self.editor = editor
+        self.editor, self.state = editor, state
         self.tool = "brush"
         self.erase = False
         self.zoom = 0.0  # pixels per voxel; 0 = fit on first paint
@@ -45,7 +45,7 @@ class SliceCanvas(QWidget):
 
     # -- geometry ---------------------------------------------------------------------------
     def fit(self) -> None:
-        u, v = self.editor.volume.slice_size(self.editor.volume_view.axis)
+        u, v = self.state.volume.slice_size(self.state.view.axis)
         self.zoom = max(0.5, min(self.width() / u, self.height() / v) * 0.92)
         self.offset = QPointF((self.width() - u * self.zoom) / 2, (self.height() - v * self.zoom) / 2)
 
@@ -63,7 +63,7 @@ class SliceCanvas(QWidget):
     def image(self) -> np.ndarray:
         """The slice as RGBA, with the neighbouring slices faint where it is transparent. Kept until the
         voxels or the slice change: the brush cursor repaints on every mouse move."""
-        vol, view = self.editor.volume, self.editor.volume_view
+        vol, view = self.state.volume, self.state.view
         key = (id(vol), vol.version, view.axis, view.index)
         if self._image is None or self._image[0] != key:
             self._image = (key, self._compose(vol, view))
@@ -122,7 +122,7 @@ class SliceCanvas(QWidget):
 
     # -- input ------------------------------------------------------------------------------
     def _stroke_line(self, verb: str) -> str:
-        view = self.editor.volume_view
+        view = self.state.view
         size = self.editor.console.registry.cvars["brush_size"].value
         colour = (0, 0, 0, 0) if self.erase else view.brush
         coords = " ".join(f"{u} {v}" for u, v in self.points)
@@ -135,12 +135,12 @@ class SliceCanvas(QWidget):
             return
         if event.button() != Qt.MouseButton.LeftButton:
             return
-        view = self.editor.volume_view
+        view = self.state.view
         tool = "pick" if event.modifiers() & Qt.KeyboardModifier.AltModifier else self.tool
         if tool == "pick":
-            su, sv = self.editor.volume.slice_size(view.axis)
+            su, sv = self.state.volume.slice_size(view.axis)
             if 0 <= u < su and 0 <= v < sv:
-                self.command.emit(f"pick {' '.join(map(str, self.editor.volume.voxel_of(view.axis, view.index, u, v)))}")
+                self.command.emit(f"pick {' '.join(map(str, self.state.volume.voxel_of(view.axis, view.index, u, v)))}")
         elif tool == "fill":
             colour = (0, 0, 0, 0) if self.erase else view.brush
             self.command.emit(f"fill {view.axis} {view.index} {u} {v} {' '.join(map(str, colour))}")
@@ -194,11 +194,12 @@ class SliceCanvas(QWidget):
 class SlicePainter(QWidget):
     """The dock: slice and brush controls above the canvas."""
 
-    def __init__(self, editor, run, parent=None) -> None:
+    def __init__(self, editor, state, run, parent=None) -> None:
         super().__init__(parent)
-        self.editor = editor
+        self.editor, self.state = editor, state
         self.run = run
-        self.canvas = SliceCanvas(editor)
+        self.picker = None  # the slice picker dialog while it is open
+        self.canvas = SliceCanvas(editor, state)
         self.canvas.command.connect(run)
         self.axis = QComboBox()
         self.axis.addItems(AXES)
@@ -231,21 +232,21 @@ class SlicePainter(QWidget):
         layout.addLayout(top)
         layout.addLayout(tool_row)
         layout.addWidget(self.canvas, 1)
-        self.axis.currentTextChanged.connect(lambda a: self._set_slice(a, self.editor.volume_view.index))
+        self.axis.currentTextChanged.connect(lambda a: self._set_slice(a, self.state.view.index))
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
         self.size.valueChanged.connect(lambda s: run(f"brush_size {s}"))
         self.round.toggled.connect(lambda on: run(f"brush_round {int(on)}"))
         self.sync()
 
     def _set_slice(self, axis: str, index: int) -> None:
-        view = self.editor.volume_view
-        index = min(index, self.editor.volume.depth(axis) - 1)
+        view = self.state.view
+        index = min(index, self.state.volume.depth(axis) - 1)
         if (axis, index) != (view.axis, view.index):
             self.run(f"slice {axis} {index}")
 
     def sync(self) -> None:
         """Show the model's values without sending them back as commands."""
-        view, vol = self.editor.volume_view, self.editor.volume
+        view, vol = self.state.view, self.state.volume
         cvars = self.editor.console.registry.cvars
         for widget, setter, value in ((self.axis, "setCurrentText", view.axis),
                                       (self.index, "setMaximum", vol.depth(view.axis) - 1),

@@ -8,13 +8,13 @@ from app.model.volume import AXES
 
 
 class SlicePicker(QDialog):
-    def __init__(self, editor, tool, run, parent=None) -> None:
+    def __init__(self, state, tool, run, parent=None) -> None:
         super().__init__(parent)
         self.setWindowTitle("Slice picker")
-        self.editor, self.tool, self.run = editor, tool, run
+        self.state, self.tool, self.run = state, tool, run
         self.axis = QComboBox()
         self.axis.addItems(AXES)
-        self.axis.setCurrentText(editor.volume_view.axis)
+        self.axis.setCurrentText(state.view.axis)
         self.index = QSpinBox()
         buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel)
         buttons.accepted.connect(lambda: self.pick(self.axis.currentText(), self.index.value()))
@@ -32,9 +32,9 @@ class SlicePicker(QDialog):
 
     def _axis_changed(self, axis: str) -> None:
         self.tool.picker_axis = axis
-        self.index.setMaximum(self.editor.volume.depth(axis) - 1)
+        self.index.setMaximum(self.state.volume.depth(axis) - 1)
         self.index.blockSignals(True)
-        self.index.setValue(min(self.editor.volume_view.index, self.index.maximum()))
+        self.index.setValue(min(self.state.view.index, self.index.maximum()))
         self.index.blockSignals(False)
         self.run(f"slice.highlight {axis} {self.index.value()}")
 

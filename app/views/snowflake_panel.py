@@ -11,9 +11,9 @@ SLIDER_STEPS_PER_LEVEL = 20
 
 
 class SnowflakePanel(QWidget):
-    def __init__(self, editor, run, parent=None) -> None:
+    def __init__(self, state, run, parent=None) -> None:
         super().__init__(parent)
-        self.editor = editor
+        self.state = state
         self.run = run
         self.slider = QSlider(Qt.Orientation.Horizontal)
         self.slider.setRange(0, int(MAX_LEVEL * SLIDER_STEPS_PER_LEVEL))
@@ -37,12 +37,12 @@ class SnowflakePanel(QWidget):
         self.sync()
 
     def _set_level(self, level: float) -> None:
-        if abs(level - self.editor.snowflake.level) > 1e-9:
+        if abs(level - self.state.scene.level) > 1e-9:
             self.run(f"snow.level {level:g}")
 
     def sync(self) -> None:
         """Show the model's values without sending them back as commands."""
-        scene = self.editor.snowflake
+        scene = self.state.scene
         for widget, value in ((self.slider, round(scene.level * SLIDER_STEPS_PER_LEVEL)), (self.spin, scene.level)):
             widget.blockSignals(True)
             widget.setValue(value)

@@ -7,30 +7,27 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt
 
+from app.views.tool import ViewportTool
+
 PICK_PIXELS = 12
 ZOOM_STEP = 1.15
 
 
-class SnowflakeTool:
-    def __init__(self, viewport, run) -> None:
-        self.viewport = viewport
-        self.run = run  # executes one console command line
+class SnowflakeTool(ViewportTool):
+    def __init__(self, viewport, state, run) -> None:
+        super().__init__(viewport, state, run)
         self._drag: int | None = None  # flake being moved
         self._pan_from = None  # (pixel, camera centre) of a pan in progress
         self._moved = False
 
-    @property
-    def editor(self):
-        return self.viewport.editor
-
     def _world(self, event) -> tuple[float, float]:
         p = event.position()
-        cam = self.editor.snowflake_camera
+        cam = self.state.camera
         return cam.to_world(p.x(), p.y(), self.viewport.width(), self.viewport.height())
 
     def _pick(self, x: float, y: float) -> int | None:
-        slack = PICK_PIXELS * self.editor.snowflake_camera.world_per_pixel(self.viewport.height())
-        return self.editor.snowflake.pick(x, y, slack)
+        slack = PICK_PIXELS * self.state.camera.world_per_pixel(self.viewport.height())
+        return self.state.scene.pick(x, y, slack)
 
     def press(self, event) -> None:
         x, y = self._world(event)
@@ -40,7 +37,7 @@ class SnowflakeTool:
             if self._drag is None:
                 self.run(f"snow.add {x:.4f} {y:.4f}")
         elif event.button() in (Qt.MouseButton.MiddleButton, Qt.MouseButton.RightButton):
-            cam = self.editor.snowflake_camera
+            cam = self.state.camera
             self._pan_from = (event.position(), (cam.cx, cam.cy))
 
     def move(self, event) -> None:
@@ -54,7 +51,7 @@ class SnowflakeTool:
             if abs(d.x()) + abs(d.y()) < 3 and not self._moved:
                 return
             self._moved = True
-            cam = self.editor.snowflake_camera
+            cam = self.state.camera
             units = cam.world_per_pixel(self.viewport.height())
             self.run(f"snow.view {cx - d.x() * units:.5f} {cy + d.y() * units:.5f} {cam.height:.5f}")
 
@@ -68,6 +65,6 @@ class SnowflakeTool:
 
     def wheel(self, event) -> None:
         """Zoom keeping the world point under the cursor in place."""
-        cx, cy, h = self.editor.snowflake_camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,
+        cx, cy, h = self.state.camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,
                                                              ZOOM_STEP)
         self.run(f"snow.view {cx:.5f} {cy:.5f} {h:.5f}")

@@ -11,6 +11,7 @@ from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
 from app.gl.workspace_renderer import WorkspaceRenderer
 from app.views.keys import key_name
+from app.views.tool import ViewportTool
 
 SHADER_POLL_MS = 500
 INTERACTIVE_GAP = 0.25  # a frame asked for this soon after the last is part of an interaction
@@ -33,7 +34,7 @@ class Viewport(QOpenGLWidget):
         self.renderer: WorkspaceRenderer | None = None
         self.frames = 0
         self.frame_ms: deque[float] = deque(maxlen=30)
-        self.tool = None  # the workspace's mouse/key handler, set by MainWindow
+        self.tool: ViewportTool | None = None  # the workspace's mouse and keys, set by MainWindow
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMouseTracking(True)
         self.setMinimumSize(320, 240)
@@ -58,6 +59,7 @@ class Viewport(QOpenGLWidget):
         try:
             self._shader_timer.stop()
             self._idle_timer.stop()
+            self.renderer.release()
             self.renderer = None
             gc.collect()  # the renderer's programs, buffers and textures, into the context's garbage list
             self.ctx.gc()
@@ -72,7 +74,7 @@ class Viewport(QOpenGLWidget):
         fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
         deferred = False
         try:
-            deferred = self.renderer.render(self.editor, fbo, self.interactive)
+            deferred = self.renderer.render(fbo, self.editor.current, self.editor.render_settings(), self.interactive)
         except Exception as exc:  # e.g. a shader that never compiled: say so, keep the editor alive
             fbo.clear(0.3, 0.05, 0.05, 1.0)
             self.gl_error.emit(str(exc))
@@ -130,7 +132,7 @@ class Viewport(QOpenGLWidget):
             self.tool.wheel(event)
 
     def mouseDoubleClickEvent(self, event) -> None:
-        if self.tool and hasattr(self.tool, "double_click"):
+        if self.tool:
             self.tool.double_click(event)
 
     def selection_changed(self) -> None:
@@ -140,7 +142,7 @@ class Viewport(QOpenGLWidget):
 
     def keyPressEvent(self, event) -> None:
         """Keys run their `bind`ings (the current workspace's first, then the global ones)."""
-        if self.tool and hasattr(self.tool, "key") and self.tool.key(event):
+        if self.tool and self.tool.key(event):
             return
         name = key_name(event.key())
         command = self.editor.binds.lookup(self.editor.workspace, name) if name else None

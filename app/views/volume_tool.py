@@ -7,27 +7,23 @@ from PySide6.QtCore import Qt
 
 from app.model.volume_pick import first_hit
 from app.model.volume_view import AXIS_INDEX
+from app.views.tool import ViewportTool
 
 DEGREES_PER_PIXEL = 0.4
 
 
-class VolumeTool:
-    def __init__(self, viewport, run) -> None:
-        self.viewport = viewport
-        self.run = run
+class VolumeTool(ViewportTool):
+    def __init__(self, viewport, state, run) -> None:
+        super().__init__(viewport, state, run)
         self.picker_axis: str | None = None  # set while the slice picker is open
         self.on_pick = lambda axis, index: None
         self._drag = None
 
-    @property
-    def editor(self):
-        return self.viewport.editor
-
     def slice_under(self, event) -> int | None:
-        vp, view = self.viewport, self.editor.volume_view
+        vp, view = self.viewport, self.state.view
         p = event.position()
         origin, direction = view.camera.ray(p.x(), p.y(), vp.width(), vp.height())
-        hit = first_hit(self.editor.volume, np.asarray(origin), np.asarray(direction))
+        hit = first_hit(self.state.volume, np.asarray(origin), np.asarray(direction))
         return None if hit is None else hit[AXIS_INDEX[self.picker_axis]]
 
     def press(self, event) -> None:
@@ -38,7 +34,7 @@ class VolumeTool:
             if index is not None:
                 self.on_pick(self.picker_axis, index)
             return
-        cam = self.editor.volume_view.camera
+        cam = self.state.view.camera
         self._drag = (event.position(), cam.yaw, cam.pitch)
 
     def move(self, event) -> None:
@@ -50,7 +46,7 @@ class VolumeTool:
         elif self.picker_axis is not None:
             index = self.slice_under(event)
             target = f"slice.highlight {self.picker_axis} {index}" if index is not None else "slice.highlight"
-            if (self.picker_axis, index) != self.editor.volume_view.highlight:
+            if (self.picker_axis, index) != self.state.view.highlight:
                 self.run(target)
 
     def release(self, _event) -> None:

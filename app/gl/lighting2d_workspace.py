@@ -1,0 +1,21 @@
+"""The 2D lighting workspace's renderer: the lit scene, then the editor's overlay (selection, handles,
+the hull being drawn, and the debug wireframe)."""
+from __future__ import annotations
+
+from app.gl.lighting2d import Lighting2DRenderer
+from app.gl.lighting2d_overlay import Lighting2DOverlay
+from app.gl.renderer_base import WorkspaceRendererBase
+from app.model.lighting2d import Shading2D
+
+
+class Lighting2DWorkspaceRenderer(WorkspaceRendererBase):
+    def __init__(self, ctx, shaders) -> None:
+        super().__init__(ctx, shaders)
+        self.lighting = Lighting2DRenderer(ctx, shaders)
+        self.overlay = Lighting2DOverlay(ctx, shaders)
+
+    def render(self, fbo, state, settings: Shading2D, interactive: bool = False) -> bool:
+        self.lighting.render(fbo, state.scene, state.camera, settings)
+        self.overlay.draw(fbo, state.scene, state.camera, settings.flip_y, settings.debug, state.selection,
+                          state.pending)
+        return False

@@ -1,0 +1,51 @@
+"""What every workspace's renderer is: made once per GL context, asked for frames, released with it."""
+from __future__ import annotations
+
+import moderngl
+
+from app.gl.shaders import ShaderLibrary
+
+# What a renderer may own; programs belong to the shared ShaderLibrary and are not released here.
+GL_OBJECTS = (moderngl.Buffer, moderngl.VertexArray, moderngl.Texture, moderngl.Texture3D, moderngl.TextureArray,
+              moderngl.TextureCube, moderngl.Framebuffer, moderngl.Renderbuffer, moderngl.Sampler, moderngl.Query)
+
+
+class WorkspaceRendererBase:
+    """`render` draws the workspace's state into `fbo` with `settings` (a dataclass its commands build from
+    the cvars, or None); it returns True when it drew a reduced frame or put work off, so the host asks for
+    a full frame once the user stops (then `idle` does the put-off work)."""
+
+    def __init__(self, ctx: moderngl.Context, shaders: ShaderLibrary) -> None:
+        self.ctx, self.shaders = ctx, shaders
+
+    def render(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool = False) -> bool:
+        raise NotImplementedError
+
+    def idle(self) -> bool:
+        """Work put off while the user interacted; True if a redraw is due."""
+        return False
+
+    def frame_took(self, ms: float, interactive: bool) -> None:
+        """The host's measure of the frame just drawn (a renderer that adapts its quality learns from it)."""
+
+    def release(self) -> int:
+        """Release every GL object this renderer holds (through its attributes and the app.gl objects in
+        them), with its context current; returns how many."""
+        seen: set[int] = set()
+
+        def walk(value) -> int:
+            if id(value) in seen or value is self.shaders:
+                return 0
+            seen.add(id(value))
+            if isinstance(value, GL_OBJECTS):
+                value.release()
+                return 1
+            if isinstance(value, (list, tuple, set)):
+                return sum(walk(v) for v in value)
+            if isinstance(value, dict):
+                return sum(walk(v) for v in value.values())
+            if type(value).__module__.startswith("app.gl.") and hasattr(value, "__dict__"):
+                return sum(walk(v) for v in vars(value).values())
+            return 0
+
+        return walk(self)

@@ -1,0 +1,34 @@
+"""The snowflake workspace's state: the Koch scene, its 2D view and its undo history."""
+from __future__ import annotations
+
+from typing import Callable
+
+from app.model.camera2d import Camera2D
+from app.model.history import SnapshotHistory
+from app.model.snowflake import SnowflakeScene, default_scene
+from app.model.workspace import Workspace, short_hash
+
+
+class SnowflakeWorkspace(Workspace):
+    name = "snowflake"
+
+    def __init__(self) -> None:
+        self.scene: SnowflakeScene = default_scene()
+        self.camera = Camera2D()
+        # flakes are frozen values: a copy of the list and the level is a whole snapshot
+        self.history = SnapshotHistory(lambda: (list(self.scene.flakes), self.scene.level),
+                                       lambda state: self.scene.replace(*state))
+
+    def version(self) -> tuple:
+        cam = self.camera
+        return self.scene.version, cam.cx, cam.cy, cam.height
+
+    def digest(self) -> dict[str, str]:
+        cam = self.camera
+        return {"snowflake": self.scene.digest(), "snowflake.camera": short_hash(cam.cx, cam.cy, cam.height)}
+
+    def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
+        """Commands that rebuild the scene and its view exactly (floats as repr)."""
+        scene, cam = self.scene, self.camera
+        return ["snow.clear", *(f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes),
+                f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]

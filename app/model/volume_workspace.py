@@ -1,0 +1,68 @@
+"""The volume workspace's state: the 3D raster image (which keeps its own undo steps) and its view."""
+from __future__ import annotations
+
+import shlex
+from typing import Callable
+
+from app.model.volume import Volume
+from app.model.volume_samples import make
+from app.model.volume_view import VolumeView
+from app.model.workspace import Workspace, short_hash
+
+DEFAULT_SAMPLE = "coords3d"  # Tex3Dtrace opened coords3d by default
+
+
+class VolumeHistory:
+    """The volume's own undo steps; after one, the edited slice is kept inside a volume that changed shape."""
+
+    def __init__(self, state: "VolumeWorkspace") -> None:
+        self.state = state
+
+    def undo(self) -> bool:
+        return self._after(self.state.volume.undo())
+
+    def redo(self) -> bool:
+        return self._after(self.state.volume.redo())
+
+    def _after(self, done: bool) -> bool:
+        if done:
+            self.state.clamp_slice()
+        return done
+
+
+class VolumeWorkspace(Workspace):
+    name = "volume"
+
+    def __init__(self) -> None:
+        self.volume = Volume(make(DEFAULT_SAMPLE))
+        self.view = VolumeView()
+        self.history = VolumeHistory(self)
+
+    def clamp_slice(self) -> None:
+        """After anything that may change the volume's shape, keep the edited slice inside it."""
+        view, volume = self.view, self.volume
+        view.index = min(view.index, volume.depth(view.axis) - 1)
+        if view.highlight and view.highlight[1] >= volume.depth(view.highlight[0]):
+            view.highlight = None
+
+    def version(self) -> tuple:
+        return self.volume.version, self.view.key()
+
+    def digest(self) -> dict[str, str]:
+        return {"volume": self.volume.digest(), "volume.view": short_hash(self.view.key())}
+
+    def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
+        """Commands that rebuild the volume and its view; voxels other than the default sample go into a
+        snapshot file beside the demo."""
+        v = self.view
+        if self.volume.digest() == Volume(make(DEFAULT_SAMPLE)).digest():
+            lines = [f"sample {DEFAULT_SAMPLE}"]
+        else:
+            lines = [f"load {shlex.quote(snapshot())}"]
+        return lines + [
+            f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
+            f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
+            f"vol.background {' '.join(map(str, v.background))}",
+            f"mode {v.mode}", f"shadows {int(v.shadows)}", f"light {' '.join(map(repr, v.light))}",
+            f"stereo {int(v.stereo)}", f"magnify {int(v.magnify)}", f"wireframe {int(v.wireframe)}",
+        ]

@@ -1,0 +1,26 @@
+"""The model layer's mapping: every workspace, in switcher order, with the class of its state."""
+from __future__ import annotations
+
+from app.model.lighting2d_workspace import Lighting2DWorkspace
+from app.model.snowflake_workspace import SnowflakeWorkspace
+from app.model.volume_workspace import VolumeWorkspace
+from app.model.workspace import WorkspaceInfo
+
+WORKSPACES: list[WorkspaceInfo] = [
+    WorkspaceInfo("lighting2d", "2D lighting", Lighting2DWorkspace),
+    WorkspaceInfo("volume", "Volume", VolumeWorkspace),
+    WorkspaceInfo("clouds", "Clouds"),
+    WorkspaceInfo("lights3d", "3D lights"),
+    WorkspaceInfo("snowflake", "Snowflake", SnowflakeWorkspace),
+]
+
+
+def names() -> list[str]:
+    return [w.name for w in WORKSPACES]
+
+
+def built() -> list[WorkspaceInfo]:
+    return [w for w in WORKSPACES if w.built]
+
+
+DEFAULT_WORKSPACE = "snowflake"  # the editor opens on it
