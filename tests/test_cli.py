@@ -25,7 +25,8 @@ def test_render_snowflake_png(tmp_path):
 
 def test_render_runs_commands_in_order_and_loads_scenes(tmp_path):
     scene = tmp_path / "one.json"
-    scene.write_text('{"format": "shadelab.snowflake", "version": 1, "level": 1, "flakes": [{"x": 0, "y": 0, "radius": 1}]}')
+    scene.write_text('{"format": "shadelab.snowflake", "version": 1, "level": 1, '
+                     '"flakes": [{"x": 0, "y": 0, "radius": 1}]}')
     a, b = tmp_path / "a.png", tmp_path / "b.png"
     assert shadelab("render", "snowflake", "--scene", str(scene), "--size", "96x96", "--out", str(a)).returncode == 0
     r = shadelab("render", "snowflake", "--scene", str(scene), "--cmd", "snow.level 5", "--cmd", "snow.view 0 0 3",

@@ -9,7 +9,8 @@ from app.console.registry import CommandError, Cvar, Registry
 def console():
     c = Console()
     calls = []
-    c.registry.command("add", "a:int b:int [scale:float]", "Add two numbers")(lambda a, b, scale=1.0: calls.append((a + b) * scale))
+    c.registry.command("add", "a:int b:int [scale:float]", "Add two numbers")(
+        lambda a, b, scale=1.0: calls.append((a + b) * scale))
     c.registry.command("many", "words...")(lambda words: calls.append(words))
     c.registry.add_cvar(Cvar("cl_steps", int, 64, "ray steps", min=1, max=4096))
     c.calls = calls

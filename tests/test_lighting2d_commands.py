@@ -106,7 +106,8 @@ def test_scene_files_round_trip_and_malformed_ones_change_nothing(editor, tmp_pa
     data = json.loads(path.read_text())
     data["lights"][0]["radius"] = -3
     bad.write_text(json.dumps(data))
-    for text in (json.dumps(data), "{", json.dumps({**data, "version": 9}), json.dumps({**data, "hulls": [{"pts": []}]})):
+    for text in (json.dumps(data), "{", json.dumps({**data, "version": 9}),
+                 json.dumps({**data, "hulls": [{"pts": []}]})):
         bad.write_text(text)
         assert not editor.execute(f"scene.load {bad}")
         assert editor.digest() == saved

@@ -420,7 +420,8 @@ def test_a_stack_overflow_stops_the_script(run, console):
     # Catching it would let the script loop where the count hook cannot be called. (Large frames
     # reach Lua's stack limit before the memory cap.)
     frame = ", ".join(f"v{i}" for i in range(150))
-    assert not run("deep.lua", f"local function f() local {frame} = 1 return 1 + f() end\nprint(pcall(f))\nprint('after')")
+    assert not run("deep.lua",
+                   f"local function f() local {frame} = 1 return 1 + f() end\nprint(pcall(f))\nprint('after')")
     assert errors(console) == ["lua: deep.lua:2: stack overflow"]
     assert infos(console) == []
 
@@ -448,7 +449,8 @@ def test_a_long_line_stops_the_script(console):
 def test_output_stops_at_its_limit(console):
     lua = LuaScripting(console)
     line = 16_000  # under what the log keeps of one line
-    assert not lua.run_string(f"for i = 1, 2000 do pcall(print, string.rep('x', {line})) end print('after')", "spam.lua")
+    assert not lua.run_string(f"for i = 1, 2000 do pcall(print, string.rep('x', {line})) end print('after')",
+                              "spam.lua")
     assert errors(console) == ["lua: spam.lua:1: output limit exceeded (1 MiB)"]
     assert [len(text) for text in infos(console)] == [line] * (OUTPUT_LIMIT // line)  # no 'after'
 
@@ -458,7 +460,8 @@ def test_command_lines_count_as_output(console):
     assert not lua.run_string(f"exec('say ' .. string.rep('x', {LINE_LIMIT}))", "long.lua")
     assert errors(console) == [f"lua: long.lua:1: command line too long ({LINE_LIMIT + 4} bytes; limit 64 KiB)"]
     assert console.calls == []  # refused before it reached the console
-    assert not lua.run_string("print(string.rep('x', 60000))\nwhile true do cmd.say(string.rep('y', 60000)) end", "say.lua")
+    assert not lua.run_string("print(string.rep('x', 60000))\nwhile true do cmd.say(string.rep('y', 60000)) end",
+                              "say.lua")
     assert errors(console)[-1] == "lua: say.lua:2: output limit exceeded (1 MiB)"
     assert len(console.calls) == OUTPUT_LIMIT // 60_004 - 1  # "say " and the word; the print took one
 

@@ -72,7 +72,8 @@ def test_a_texture_that_is_a_fifo_is_refused_without_blocking(editor, tmp_path):
     data = scene_with(("lights", 0, "texture"), str(fifo))
     data["lights"][0]["kind"] = "textured"
     path.write_text(json.dumps(data))
-    refused(editor, "lighting2d", path, f"lights[0].texture: cannot read image {fifo}: is a FIFO (named pipe), not a regular file")
+    refused(editor, "lighting2d", path,
+            f"lights[0].texture: cannot read image {fifo}: is a FIFO (named pipe), not a regular file")
 
 
 HEADER = '{"format": "shadelab.snowflake", "version": 1, '
@@ -85,12 +86,14 @@ HEADER = '{"format": "shadelab.snowflake", "version": 1, '
     (HEADER + '"flakes": [{"x": NaN, "y": 0}]}', "NaN is not a finite number"),
     (HEADER + '"flakes": [{"x": -Infinity, "y": 0}]}', "-Infinity is not a finite number"),
     (HEADER + '"flakes": ' + "[" * 100_000 + "]" * 100_000 + "}", "nested too deeply"),
-    (HEADER + '"flakes": [{"x": ' + "[" * 500 + "]" * 500 + ', "y": 0}]}', "flakes[0].x: expected a number, got a list"),
+    (HEADER + '"flakes": [{"x": ' + "[" * 500 + "]" * 500 + ', "y": 0}]}',
+     "flakes[0].x: expected a number, got a list"),
     (HEADER + '"flakes": [{"x": 0, "y": 2e6}]}', "flakes[0].y: must be within -1e+06..1e+06, got 2000000.0"),
     (HEADER + '"flakes": [{"x": 0, "y": 0, "radius": 0}]}', "flakes[0].radius: must be > 0 and <= 1e+06, got 0"),
     (HEADER + '"flakes": [{"x": 0, "y": 0, "z": 0}]}', "flakes[0]: unknown keys: z"),
     (HEADER + '"level": true, "flakes": []}', "level: expected a number, got true or false"),
-    (HEADER + '"flakes": [' + ", ".join(['{"x": 0, "y": 0}'] * 4097) + "]}", "flakes: expected at most 4096 flakes, got 4097"),
+    (HEADER + '"flakes": [' + ", ".join(['{"x": 0, "y": 0}'] * 4097) + "]}",
+     "flakes: expected at most 4096 flakes, got 4097"),
     (HEADER + '"flakes": [], "' + "k" * 100 + '": 1}', "(top level): unknown keys: " + "k" * 40 + "..."),
 ])
 def test_a_snowflake_scene_with_hostile_json_is_refused_cleanly(editor, tmp_path, text, needle):
@@ -114,7 +117,8 @@ def test_a_scene_path_that_is_no_regular_file_or_too_large_is_refused_unread(edi
     if kind == "large":
         path.write_text(HEADER + '"flakes": [], "pad": "' + " " * json_file.MAX_BYTES + '"}')
     needle = {"device": "is a device, not a regular file", "fifo": "is a FIFO (named pipe), not a regular file",
-              "folder": "is a folder, not a regular file", "large": "the file is over the size limit of 8388608 bytes"}[kind]
+              "folder": "is a folder, not a regular file",
+              "large": "the file is over the size limit of 8388608 bytes"}[kind]
     for workspace in ("snowflake", "lighting2d"):
         refused(editor, workspace, path, f"cannot read {path}: {needle}")
 

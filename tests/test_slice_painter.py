@@ -69,7 +69,8 @@ def test_fill_and_eyedropper_tools(window, painter, qtbot):
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 3, 2))
     assert (volume.data[1, :5, :, 0] == 255).all() and (volume.data[1, 6:, :, 3] == 0).all()
     painter.tool = "brush"
-    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, stateKey=Qt.KeyboardModifier.AltModifier, pos=at(painter, 4, 5))
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, stateKey=Qt.KeyboardModifier.AltModifier,
+                     pos=at(painter, 4, 5))
     assert window.editor.workspaces["volume"].view.brush == (0, 255, 0, 255)
 
 

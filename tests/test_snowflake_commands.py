@@ -80,7 +80,8 @@ def test_scene_round_trip(editor, tmp_path):
     ('{"format": "shadelab.snowflake", "version": 1, "level": 12, "flakes": []}', "level: must be within 0..8, got 12"),
     ('{"format": "shadelab.snowflake", "version": 1, "flakes": {}}', "flakes: expected a list, got an object"),
     ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0}, {"x": 1}]}', "flakes[1]: missing y"),
-    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0, "radius": -2}]}', "flakes[0].radius: must be > 0"),
+    ('{"format": "shadelab.snowflake", "version": 1, "flakes": [{"x": 0, "y": 0, "radius": -2}]}',
+     "flakes[0].radius: must be > 0"),
 ])
 def test_malformed_scene_refused_before_the_model_is_touched(editor, tmp_path, content, needle):
     path = tmp_path / "bad.json"

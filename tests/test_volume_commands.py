@@ -4,7 +4,6 @@ import pytest
 
 from app.console.demo import VirtualClock
 from app.editor import Editor
-from app.io.volume_formats import write_volume
 
 
 @pytest.fixture

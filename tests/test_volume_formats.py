@@ -41,7 +41,8 @@ def r3_bytes(volume: np.ndarray) -> bytes:
 # --- round trips -----------------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", ["v.r3", "v.raw", "v.npy", "v.tif", "v.tiff", "v.nrrd", "s_%i.png", "s_%d.tga", "s_%03i.PNG"])
+@pytest.mark.parametrize("name", ["v.r3", "v.raw", "v.npy", "v.tif", "v.tiff", "v.nrrd",
+                                  "s_%i.png", "s_%d.tga", "s_%03i.PNG"])
 def test_lossless_round_trip(tmp_path, name):
     volume = random_volume()
     write_volume(tmp_path / name, volume)
@@ -166,7 +167,8 @@ def test_tiff_single_page_and_planar_rgba(tmp_path):
     np.testing.assert_array_equal(read_volume(tmp_path / "page.tif"), expected_grey()[1:2])
     volume = random_volume()
     planar = np.moveaxis(volume, -1, 1).copy()  # (d, 4, h, w), stored one colour plane after another
-    tifffile.imwrite(tmp_path / "planar.tif", planar, photometric="rgb", planarconfig="separate", extrasamples=["unassalpha"])
+    tifffile.imwrite(tmp_path / "planar.tif", planar, photometric="rgb", planarconfig="separate",
+                     extrasamples=["unassalpha"])
     np.testing.assert_array_equal(read_volume(tmp_path / "planar.tif"), volume)
 
 
@@ -218,7 +220,8 @@ def test_r3_refusals(tmp_path):
 
 
 def test_r3_header_over_the_size_limit_is_refused_before_reading(tmp_path):
-    # 20 bytes claiming 256 GiB: the limit is reported, not the (also true) truncation, so nothing was read or allocated.
+    # 20 bytes claiming 256 GiB: the limit is reported, not the (also true) truncation, so nothing was read or
+    # allocated.
     path = write_file(tmp_path / "huge.r3", b"R3" + struct.pack("<HHH", 4096, 4096, 4096) + bytes(12))
     message = refused(path, "4096x4096x4096", "size limit", str(4096**3 * 4))
     assert "truncated" not in message
@@ -241,7 +244,8 @@ def test_npy_refusals(tmp_path):
     refused(tmp_path / "cut.npy", "not a valid .npy")
 
     header = io.BytesIO()
-    np.lib.format.write_array_header_1_0(header, {"descr": "|u1", "fortran_order": False, "shape": (4096, 4096, 4096, 4)})
+    np.lib.format.write_array_header_1_0(header, {"descr": "|u1", "fortran_order": False,
+                                                  "shape": (4096, 4096, 4096, 4)})
     refused(write_file(tmp_path / "huge.npy", header.getvalue()), "size limit")
 
 

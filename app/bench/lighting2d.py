@@ -70,7 +70,8 @@ METHODS = [
     _method("penumbra", "lightmap_scale", (1.0,), (1.0,), lambda v: Shading2D(method="penumbra", lightmap_scale=v)),
     _method("jitter", "samples", (1, 4, 16, 64), (4, 16), lambda v: Shading2D(method="jitter", samples=int(v))),
     _method("blur", "blur", (0.1, 0.25, 0.5), (0.25,), lambda v: Shading2D(method="blur", blur=v)),
-    _method("exact", "lightmap_scale", (1.0, 0.5, 0.25), (1.0, 0.5), lambda v: Shading2D(method="exact", lightmap_scale=v)),
+    _method("exact", "lightmap_scale", (1.0, 0.5, 0.25), (1.0, 0.5),
+            lambda v: Shading2D(method="exact", lightmap_scale=v)),
 ]
 
 
@@ -112,8 +113,8 @@ def peer_scene(lights: int, hulls: int, size=(1280, 720), seed: int = 7):
         scene.lights.append(Light(position=(x, y), scale=(2 * reach, 2 * reach), radius=0.0,
                                   color=(colour, colour, colour)))
     peer = {"ambient": scene.ambient,
-            "lights": [{"position": l.position, "radius": reach, "color": l.color, "power": 1.0, "casts_shadows": True}
-                       for l in scene.lights],
+            "lights": [{"position": light.position, "radius": reach, "color": light.color, "power": 1.0,
+                        "casts_shadows": True} for light in scene.lights],
             "hulls": [hl.world() for hl in scene.hulls]}
     return scene, peer
 

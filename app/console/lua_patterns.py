@@ -521,4 +521,4 @@ local function gsub(s, p, repl, max_n)
 end
 
 return {find = find, match = match, gmatch = gmatch, gsub = gsub}
-"""
+"""  # noqa: E501 (Lua source: its lines keep their numbers in error messages)

@@ -51,7 +51,8 @@ class Lighting2DRenderer:
         self._index_builds = 0  # tells one index from the next in the batch's key
         self._spans: dict[int, _Span] = {}
         self._quad_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._quad, "2f", "in_uv")]))
-        self._edge_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._edges, "2f 2f 2f", "in_a", "in_b", "in_s")]))
+        self._edge_vaos = VertexArrays(
+            lambda p: ctx.vertex_array(p, [(self._edges, "2f 2f 2f", "in_a", "in_b", "in_s")]))
         self._tri_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._tris, "2f", "in_rel")]))
         self._region_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._regions, "2i", "in_piece")]))
         self._screen_vaos = VertexArrays(lambda p: ctx.vertex_array(p, []))
@@ -133,7 +134,8 @@ class Lighting2DRenderer:
         parts = [self._geometry[i] for i in drawn]
         starts = [np.cumsum([0] + [len(getattr(g, name)) for g in parts])
                   for name in ("edges", "triangles", "pieces", "heads")]
-        self._spans = {i: _Span(g, *(int(column[k]) for column in starts)) for k, (i, g) in enumerate(zip(drawn, parts))}
+        self._spans = {i: _Span(g, *(int(column[k]) for column in starts))
+                       for k, (i, g) in enumerate(zip(drawn, parts))}
         self._upload(self._edges, np.concatenate([g.edges for g in parts]) if parts else np.zeros((0, 6)))
         self._upload(self._tris, np.concatenate([g.triangles for g in parts]) if parts else np.zeros((0, 2)))
         # six corners per piece, each naming the piece's header texel in the batch's texture

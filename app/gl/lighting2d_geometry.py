@@ -56,7 +56,9 @@ class LightGeometry:
                 heads.append(texel_count)
                 texels.append(np.concatenate([head, verts.reshape(-1, 4)]))
                 texel_count += len(texels[-1])
-        cat = lambda parts, width: np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
+        def cat(parts: list[np.ndarray], width: int) -> np.ndarray:
+            return np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
+
         return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), np.array(heads, "i4"),
                    index.disc_touched(light), len(hulls))
 

@@ -48,7 +48,8 @@ def handles(scene: Scene2D, selection, unit: float) -> dict[str, np.ndarray]:
     x, y = hull.position
     world = hull.world()
     return {"centre": np.array([x, y]), "vertices": world,
-            "rotate": np.array([x + ROTATE_PX * unit * math.cos(hull.rotation), y + ROTATE_PX * unit * math.sin(hull.rotation)]),
+            "rotate": np.array([x + ROTATE_PX * unit * math.cos(hull.rotation),
+                                y + ROTATE_PX * unit * math.sin(hull.rotation)]),
             "scale": world.max(axis=0) + 2 * HANDLE_PX * unit}
 
 

@@ -143,7 +143,8 @@ def _say(problem: JsonSchemaValueException) -> str:
         count = str(lo) if lo == hi else (f"at most {hi}" if lo == 0 else f"{lo} to {hi}")
         return f"expected {count} {noun}, got {len(got)}"
     if kind in ("minimum", "maximum", "exclusiveMinimum"):
-        low = f"> {schema['exclusiveMinimum']:g} and <= " if "exclusiveMinimum" in schema else f"within {schema['minimum']:g}.."
+        low = (f"> {schema['exclusiveMinimum']:g} and <= " if "exclusiveMinimum" in schema
+               else f"within {schema['minimum']:g}..")
         return f"must be {low}{schema['maximum']:g}, got {_short(got)}"
     if kind in ("minLength", "maxLength"):
         return f"expected {schema['minLength']} to {schema['maxLength']} characters, got {len(got)}"

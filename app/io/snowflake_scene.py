@@ -1,4 +1,5 @@
-"""Snowflake scene JSON: {"format": "shadelab.snowflake", "version": 1, "level": 4, "flakes": [{"x", "y", "radius"}]}."""
+"""Snowflake scene JSON:
+{"format": "shadelab.snowflake", "version": 1, "level": 4, "flakes": [{"x", "y", "radius"}]}."""
 from __future__ import annotations
 
 import json

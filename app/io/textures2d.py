@@ -14,7 +14,7 @@ from app.io.png import decode_png
 from app.model.lighting2d import Lighting2DError
 
 BUILTIN = "builtin:"
-MAX_IMAGE_BYTES = 64 << 20  # a file, before decoding; Qt caps the decoded image at 256 MB by itself
+MAX_IMAGE_BYTES = 64 << 20  # a file, before decoding; app.io.png caps the decoded image at MAX_PIXELS (256 MiB)
 
 
 def _grid(n: int) -> tuple[np.ndarray, np.ndarray]:

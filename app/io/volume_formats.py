@@ -80,13 +80,17 @@ def _check_shape(path: PathLike, shape: tuple[int, ...], max_bytes: float = math
     if max(d, h, w) > MAX_SIDE:
         raise FormatError(f"{path}: volume size {size} exceeds {MAX_SIDE} voxels a side")
     if d * h * w * 4 > max_bytes:
-        raise FormatError(f"{path}: a {size} volume needs {d * h * w * 4} bytes, over the size limit of {max_bytes} bytes")
+        raise FormatError(
+            f"{path}: a {size} volume needs {d * h * w * 4} bytes, over the size limit of {max_bytes} bytes"
+        )
 
 
 def _check_array(path: PathLike, shape: tuple[int, ...], dtype: np.dtype, max_bytes: int) -> None:
     """The array layouts .npy, TIFF and NRRD share: (d, h, w) grey, (d, h, w, 3) RGB or (d, h, w, 4) RGBA, uint8."""
     if dtype != np.uint8:
-        raise FormatError(f"{path}: voxels are {dtype}; Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first")
+        raise FormatError(
+            f"{path}: voxels are {dtype}; Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first"
+        )
     if not (len(shape) == 3 or len(shape) == 4 and shape[3] in (3, 4)):
         raise FormatError(
             f"{path}: array shape {tuple(shape)} is not a volume; expected (depth, height, width) greyscale "
@@ -256,7 +260,9 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
             _check_array(path, volume_shape, series.dtype, max_bytes)
             photometric = series.keyframe.photometric
             if photometric not in (tifffile.PHOTOMETRIC.MINISBLACK, tifffile.PHOTOMETRIC.RGB):
-                raise FormatError(f"{path}: TIFF colour model {photometric.name} is not supported (greyscale or RGB/RGBA)")
+                raise FormatError(
+                    f"{path}: TIFF colour model {photometric.name} is not supported (greyscale or RGB/RGBA)"
+                )
             _check_segments(path, f, series.keyframe, series.pages, max_bytes)
             array = series.asarray(maxworkers=1)  # one segment decoded at a time: _check_segments bounds each
     finally:
@@ -324,7 +330,8 @@ def _read_nrrd(path: PathLike, max_bytes: int) -> np.ndarray:
             raise FormatError(f"{path}: NRRD line/byte skips are not supported")
         if header.get("type") not in _NRRD_UINT8:
             raise FormatError(
-                f"{path}: voxels are {header.get('type')}; Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first"
+                f"{path}: voxels are {header.get('type')}; "
+                "Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first"
             )
         encoding = header.get("encoding")
         if encoding not in _NRRD_ENCODINGS:
@@ -374,7 +381,8 @@ class _Series:
         matches = list(_SLICE_NUMBER.finditer(path.name))
         if len(matches) != 1:
             raise FormatError(
-                f"cannot {action} {pattern}: image volumes are numbered series, put one %i in the file name (e.g. slice_%i.png)"
+                f"cannot {action} {pattern}: image volumes are numbered series, "
+                "put one %i in the file name (e.g. slice_%i.png)"
             )
         width = (matches[0][1] or "0").lstrip("0") or "0"
         if len(width) > len(str(_MAX_NUMBER_WIDTH)) or int(width) > _MAX_NUMBER_WIDTH:  # int() of a short string only
