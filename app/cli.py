@@ -31,7 +31,8 @@ def parser() -> argparse.ArgumentParser:
     from app.gl.workspace_renderer import RENDERERS
     from app.model.workspaces import names
 
-    p = argparse.ArgumentParser(prog="shadelab", description="Shadelab: a workbench for real-time lighting and volume techniques.")
+    p = argparse.ArgumentParser(prog="shadelab",
+                                description="Shadelab: a workbench for real-time lighting and volume techniques.")
     sub = p.add_subparsers(dest="verb", metavar="{render,bench,exec}")
     sub.add_parser("exec", help="run .cfg/.lua/.demo files and -c commands headless (shadelab exec -h)")
     r = sub.add_parser("render", help="draw one frame of a workspace headless (EGL) into a PNG")
@@ -55,7 +56,8 @@ def render(args) -> int:
     from app.io.png import write_png
 
     editor = Editor()
-    editor.console.log_listeners.append(lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout))
+    editor.console.log_listeners.append(
+        lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout))
     commands = [f"workspace {args.workspace}"]
     if args.scene:
         commands.append(f"scene.load {shlex_quote(args.scene)}")
@@ -119,7 +121,8 @@ def run_exec(argv: list[str]) -> int:
     clock = MonotonicClock()
     editor = Editor(clock=clock)
     errors = []
-    editor.console.log_listeners.append(lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout, flush=True))
+    editor.console.log_listeners.append(
+        lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout, flush=True))
     editor.console.log_listeners.append(lambda line: line.level == "error" and errors.append(line))
     quit_requested = []
     editor.console.quit_listeners.append(lambda: quit_requested.append(True))

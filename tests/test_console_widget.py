@@ -107,7 +107,8 @@ def test_demo_plays_in_the_editor_on_its_timer(window, qtbot):
     type_line(qtbot, window, "play snowflake_tour 8")
     assert window.editor.demos.playing
     qtbot.waitUntil(lambda: not window.editor.demos.playing, timeout=5000)
-    assert window.editor.workspaces["snowflake"].scene.level == 6 and len(window.editor.workspaces["snowflake"].scene.flakes) == 2
+    scene = window.editor.workspaces["snowflake"].scene
+    assert scene.level == 6 and len(scene.flakes) == 2
     assert "demo finished: 18 commands" in log_text(window)
 
 

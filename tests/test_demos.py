@@ -151,7 +151,8 @@ def test_preamble_quotes_text_and_keeps_floats_exact(tmp_path):
     reg = fresh.console.registry
     assert reg.cvars["greeting"].value == "hello world" and reg.cvars["cl_distanceScale"].value == 1.23456789
     assert fresh.digest() == e.digest()
-    assert (fresh.workspaces["volume"].view.mode, fresh.workspaces["volume"].view.shadows, fresh.workspaces["volume"].view.light) == (3, False, (0.1, 0.2, 0.3))
+    view = fresh.workspaces["volume"].view
+    assert (view.mode, view.shadows, view.light) == (3, False, (0.1, 0.2, 0.3))
 
 
 @pytest.mark.parametrize("line, needle", [
@@ -207,7 +208,8 @@ def test_checks_of_a_shape_the_demo_changed_are_left_to_playback_which_stops_at_
     assert e.execute("play grow")  # voxel 5 fits the 64-voxel volume the check sees
     clock.advance(1)
     e.demos.update()
-    assert not e.demos.playing and e.workspaces["volume"].volume.size == (4, 4, 4) and e.workspaces["volume"].view.index != 1  # the slice never ran
+    volume = e.workspaces["volume"]
+    assert not e.demos.playing and volume.volume.size == (4, 4, 4) and volume.view.index != 1  # the slice never ran
     assert errors(e)[-1] == ("grow.demo: stopped at 0.200 s, command 3 of 4 ('voxel 5 0 0 255 0 0 255') failed; "
                              "the 1 after it did not run")
     assert not e.execute("timedemo grow")

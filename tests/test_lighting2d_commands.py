@@ -35,7 +35,8 @@ def test_lights_and_hulls_are_edited_by_commands(editor):
     assert editor.execute("hull.vertex 0 2 20 20; hull.insert 0 1 5 -5; hull.delete 0 0")
     assert hull.points.tolist() == [[5, -5], [10, 0], [20, 20], [0, 10]]
     assert editor.execute("light.add spot 0 0; light.add textured 5 5 builtin:flame")
-    assert editor.workspaces["lighting2d"].scene.lights[1].origin == (0.0, 0.5) and editor.workspaces["lighting2d"].scene.lights[2].texture == "builtin:flame"
+    lights = editor.workspaces["lighting2d"].scene.lights
+    assert lights[1].origin == (0.0, 0.5) and lights[2].texture == "builtin:flame"
 
 
 @pytest.mark.parametrize("line, needle", [

@@ -85,7 +85,8 @@ def test_click_adds_drag_moves_right_click_removes(window, qtbot):
     assert len(scene.flakes) == n + 1
     added = scene.flakes[-1]
     cam = window.editor.workspaces["snowflake"].camera
-    assert abs(added.x + 1.1) < 2 * cam.world_per_pixel(vp.height()) and abs(added.y) < 2 * cam.world_per_pixel(vp.height())
+    pixel = cam.world_per_pixel(vp.height())
+    assert abs(added.x + 1.1) < 2 * pixel and abs(added.y) < 2 * pixel
 
     qtbot.mousePress(vp, Qt.MouseButton.LeftButton, pos=empty)
     qtbot.mouseMove(vp, centre_pixel_of_world(window, -1.1, -1.0))

@@ -100,7 +100,8 @@ def test_number_keys_in_the_3d_view_rotate_and_load_samples(window, painter, qtb
     assert window.editor.workspaces["volume"].volume.size == (16, 3, 12)  # about x: height and depth swap
     qtbot.keyClick(vp, Qt.Key.Key_9)
     assert window.editor.workspaces["volume"].volume.size == (64, 64, 64)
-    assert tuple(window.editor.workspaces["volume"].volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
+    volume = window.editor.workspaces["volume"].volume
+    assert tuple(volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
 
 
 def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):
@@ -118,5 +119,6 @@ def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):
     assert highlight is not None and highlight[0] == "y"
     qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=centre + QPoint(1, 1))
     assert (window.editor.workspaces["volume"].view.axis, window.editor.workspaces["volume"].view.index) == highlight
-    assert window.workspace_panels["volume"].picker is None and window.editor.workspaces["volume"].view.highlight is None
+    assert window.workspace_panels["volume"].picker is None
+    assert window.editor.workspaces["volume"].view.highlight is None
     assert window.workspace_panels["volume"].axis.currentText() == "y"

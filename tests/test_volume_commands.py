@@ -21,7 +21,8 @@ def last_error(editor):
 def test_default_volume_is_coords3d():
     e = Editor()
     assert e.workspaces["volume"].volume.size == (64, 64, 64)
-    assert tuple(e.workspaces["volume"].volume.data[0, 0, 63]) == (255, 0, 0, 255) and tuple(e.workspaces["volume"].volume.data[63, 63, 0]) == (0, 255, 255, 255)
+    data = e.workspaces["volume"].volume.data
+    assert tuple(data[0, 0, 63]) == (255, 0, 0, 255) and tuple(data[63, 63, 0]) == (0, 255, 255, 255)
 
 
 def test_voxel_stroke_fill_rotate(editor):
@@ -109,7 +110,8 @@ def test_stroke_preview_leaves_one_undo_step(editor):
     assert editor.workspaces["volume"].volume.undo_depth == depth + 1
     editor.execute("stroke.preview z 1 1 255 0 0 255 0 0")
     editor.execute("stroke.cancel")
-    assert editor.workspaces["volume"].volume.data[1].sum() == 0 and editor.workspaces["volume"].volume.undo_depth == depth + 1
+    volume = editor.workspaces["volume"].volume
+    assert volume.data[1].sum() == 0 and volume.undo_depth == depth + 1
 
 
 def test_pick_sets_the_brush(editor):

@@ -325,7 +325,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         make(Hull, points=hull.points, **transform(hull, **{key: value}))  # the model's refusal, nothing changed
         return hull, value
 
-    @reg.command("hull.set", "index:int property values...", "Set a hull's position, origin, rotation, scale or enabled",
+    @reg.command("hull.set", "index:int property values...",
+                 "Set a hull's position, origin, rotation, scale or enabled",
                  completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)])
     def hull_set(index: int, key: str, values: list[str]) -> None:
         hull, value = hull_value(index, key, values)

@@ -51,7 +51,8 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         storable("a flake's centre and radius", x, y, radius)
         return Flake(x, y, radius)
 
-    @reg.command("snow.level", "[level:float]", f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)")
+    @reg.command("snow.level", "[level:float]",
+                 f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)")
     def level(value: float | None = None) -> None:
         if level_value(value) is None:
             console.print(f"snow.level is {scene.level:g}")

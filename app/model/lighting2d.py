@@ -71,7 +71,8 @@ def inside_convex(points: np.ndarray, piece: np.ndarray, tol: float = 0.0) -> np
     """Which points (n, 2) lie inside a convex counter-clockwise piece, or within tol (relative to
     its edges' lengths) outside it."""
     e = np.roll(piece, -1, axis=0) - piece
-    cross = e[None, :, 0] * (points[:, None, 1] - piece[None, :, 1]) - e[None, :, 1] * (points[:, None, 0] - piece[None, :, 0])
+    cross = (e[None, :, 0] * (points[:, None, 1] - piece[None, :, 1])
+             - e[None, :, 1] * (points[:, None, 0] - piece[None, :, 0]))
     return np.all(cross >= -tol * np.hypot(e[:, 0], e[:, 1])[None, :], axis=1)
 
 

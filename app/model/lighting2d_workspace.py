@@ -76,7 +76,8 @@ class Lighting2DWorkspace(Workspace):
             lines.append(f"hull.add {fmt(tuple(hull.points.ravel().tolist()))}")
             lines += [f"hull.set {i} {key} {fmt(getattr(hull, key))}" for key in HULL_KEYS]
         for i, light in enumerate(scene.lights):
-            lines.append(f"light.add {light.kind} {fmt(light.position)}" + (f" {light.texture}" if light.texture else ""))
+            texture = f" {light.texture}" if light.texture else ""
+            lines.append(f"light.add {light.kind} {fmt(light.position)}{texture}")
             lines += light_commands(i, light)
         lines.append(f"lighting.view {cam.cx!r} {cam.cy!r} {cam.height!r}")
         return lines

@@ -47,7 +47,8 @@ class BenchDock(QWidget):
             self.load(csv_path)
         else:
             report.clear_chart(self.error_plot, self.time_plot)
-            self.status.setText(f"{name}: no measurements yet" if name in TECHNIQUES else f"{workspace} has no bench yet")
+            self.status.setText(f"{name}: no measurements yet" if name in TECHNIQUES
+                                else f"{workspace} has no bench yet")
 
     def load(self, path: Path) -> None:
         try:

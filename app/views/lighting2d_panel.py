@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 
-from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox,
                                QHBoxLayout, QLabel, QLineEdit, QPushButton, QVBoxLayout, QWidget)
@@ -130,7 +129,8 @@ class Lighting2DPanel(QWidget):
         self.l_type.currentTextChanged.connect(lambda v: self._light("shadow_type", v))
         self.l_ignored = QLineEdit()
         self.l_ignored.setPlaceholderText("hull numbers, e.g. 0 2")
-        self.l_ignored.editingFinished.connect(lambda: self._light("ignored_hulls", self.l_ignored.text().strip() or "none"))
+        self.l_ignored.editingFinished.connect(
+            lambda: self._light("ignored_hulls", self.l_ignored.text().strip() or "none"))
         for label, widget in (("Kind", self.l_kind), *self.l_place.rows("Size"), ("Colour", self.l_color),
                               ("Intensity", self.l_intensity), ("Radius", self.l_radius), ("Cone decay", self.l_decay),
                               ("Height", self.l_height), ("", self.l_enabled), ("", self.l_shadows),

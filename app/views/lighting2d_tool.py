@@ -72,7 +72,8 @@ class Lighting2DTool(ViewportTool):
     def _hit_handle(self, x: float, y: float):
         """The selection's handle under the cursor: ('rotate'|'scale'|'centre', None) or ('vertex', k)."""
         sel = self.selection
-        if sel is None or not 0 <= sel[1] < len(self.state.scene.lights if sel[0] == "light" else self.state.scene.hulls):
+        scene = self.state.scene
+        if sel is None or not 0 <= sel[1] < len(scene.lights if sel[0] == "light" else scene.hulls):
             return None
         h = handles(self.state.scene, sel, self._unit())
         reach = (HANDLE_PX + 3) * self._unit()

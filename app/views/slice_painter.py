@@ -213,7 +213,8 @@ class SlicePainter(QWidget):
         self.erase.toggled.connect(lambda on: setattr(self.canvas, "erase", on))
         tools = QButtonGroup(self)
         tool_row = QHBoxLayout()
-        for name, tip in (("brush", "Paint"), ("fill", "Flood fill within the slice"), ("pick", "Eyedropper (Alt+click)")):
+        tips = (("brush", "Paint"), ("fill", "Flood fill within the slice"), ("pick", "Eyedropper (Alt+click)"))
+        for name, tip in tips:
             button = QToolButton(text=name, checkable=True, checked=name == "brush", toolTip=tip)
             button.toggled.connect(lambda on, n=name: on and setattr(self.canvas, "tool", n))
             tools.addButton(button)
@@ -266,5 +267,6 @@ class SlicePainter(QWidget):
         self._shown = shown
         r, g, b, a = view.brush
         self.colour.setText(f"#{r:02x}{g:02x}{b:02x} α{a}")
-        self.colour.setStyleSheet(f"background: rgba({r},{g},{b},{a}); color: {'black' if r + g + b > 380 else 'white'}")
+        text = "black" if r + g + b > 380 else "white"
+        self.colour.setStyleSheet(f"background: rgba({r},{g},{b},{a}); color: {text}")
         self.canvas.update()
