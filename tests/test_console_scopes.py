@@ -2,11 +2,14 @@
 exact; claims that keep every bare name unambiguous; demo checks per workspace; help, cmdlist, completion."""
 import pytest
 
-from app.console import builtins
+from app.console import builtins, demo
 from app.console.binds import Binds
 from app.console.completion import complete
 from app.console.console import Console
-from app.console.registry import Cvar
+from app.console.demo import DemoError
+from app.console.registry import CommandError, Cvar
+
+HEADER = "shadelab-demo 1\n"
 
 
 def make_console() -> Console:
@@ -127,6 +130,32 @@ def test_a_scoped_view_delegates_everything_else(console):
     console.registry.scope = "b"
     assert view.scope == "b"  # the current workspace, not the view's
     assert view.commands["light.add"].key == "b:light.add"
+
+
+# ---- cvar choices -------------------------------------------------------------------------------------
+
+def test_cvar_choices_refuse_other_values(console):
+    cvar = console.registry.add_cvar(Cvar("r_method", str, "exact", choices=("exact", "jitter", "blur")))
+    assert console.execute("r_method jitter") and cvar.value == "jitter"
+    assert not console.execute("r_method magic") and cvar.value == "jitter"
+    assert errors(console)[-1] == "r_method: r_method must be one of exact, jitter, blur, got 'magic'"
+    assert not console.execute("set r_method magic")
+    console.execute("help r_method")
+    assert out(console).startswith("r_method (str, one of exact|jitter|blur, now jitter, default exact)")
+    with pytest.raises(CommandError, match="must be one of"):
+        Cvar("r_bad", str, "other", choices=("exact",))  # the default too
+
+
+def test_a_set_value_outside_the_choices_gives_way_to_the_default(console):
+    assert console.execute("set r_method magic")  # before the cvar exists (a config ran first)
+    cvar = console.registry.add_cvar(Cvar("r_method", str, "exact", choices=("exact", "jitter")))
+    assert cvar.value == "exact"
+
+
+def test_a_demo_checks_cvar_choices(console):
+    console.registry.add_cvar(Cvar("r_method", str, "exact", choices=("exact", "jitter")))
+    with pytest.raises(DemoError, match="r_method must be one of exact, jitter, got 'magic'"):
+        demo.check(console, demo.parse(HEADER + "0 set r_method magic\n"))
 
 
 def test_a_line_is_recorded_as_typed(console):

@@ -123,6 +123,7 @@ class Cvar:
     archive: bool = False
     on_change: list[Callable[["Cvar"], None]] = field(default_factory=list)
     user_created: bool = False  # made by `set`; a later registration of the name takes it over
+    choices: tuple[str, ...] | None = None  # the only values a text cvar takes
 
     def __post_init__(self) -> None:
         self.value = self.parse(str(self.default))
@@ -140,6 +141,8 @@ class Cvar:
             raise CommandError(f"{self.name} must be finite, got {text!r}")
         if self.min is not None and value < self.min or self.max is not None and value > self.max:
             raise CommandError(f"{self.name} must be within {self.min:g}..{self.max:g}, got {text}")
+        if self.choices is not None and value not in self.choices:
+            raise CommandError(f"{self.name} must be one of {', '.join(self.choices)}, got {text!r}")
         return value
 
     def set(self, text: str) -> None:
