@@ -6,7 +6,7 @@ from app.console import builtins, demo
 from app.console.binds import Binds
 from app.console.completion import complete
 from app.console.console import Console
-from app.console.demo import DemoError
+from app.console.demo import ArgChecks, DemoError
 from app.console.registry import CommandError, Cvar
 
 HEADER = "shadelab-demo 1\n"
@@ -158,6 +158,73 @@ def test_a_demo_checks_cvar_choices(console):
         demo.check(console, demo.parse(HEADER + "0 set r_method magic\n"))
 
 
+# ---- demos --------------------------------------------------------------------------------------------
+
+def scoped_checks(seen: list) -> ArgChecks:
+    """Checks that note which workspace's check ran, and refuse x < 0 (a's) or z < 0 (b's)."""
+    checks = ArgChecks()
+
+    @checks.scoped("a").add("light.add")
+    def a_check(x, y):
+        seen.append(("a", x))
+        if x < 0:
+            raise CommandError("a refuses x < 0")
+
+    @checks.scoped("b").add("light.add")
+    def b_check(x, y, z):
+        seen.append(("b", z))
+        if z < 0:
+            raise CommandError("b refuses z < 0")
+
+    return checks
+
+
+def test_a_demo_is_checked_in_the_workspace_each_line_runs_in(console):
+    seen = []
+    console.registry.scope = "b"  # the checker starts where the console is
+    text = HEADER + "0 light.add 0 1 2\n0 workspace a\n0 light.add 3 4\n0.5 b:light.add 5 6 7\n" \
+                    "1 workspace b; light.add 8 9 10\n"
+    demo.check(console, demo.parse(text), arg_checks=scoped_checks(seen))
+    assert seen == [("b", 2.0), ("a", 3.0), ("b", 7.0), ("b", 10.0)]
+    assert console.registry.scope == "b"  # checking ran nothing
+
+
+@pytest.mark.parametrize("line, message", [
+    ("0 workspace a\n0 light.add -1 0\n", "a refuses x < 0"),
+    ("0 workspace b\n0 light.add 0 0 -1\n", "b refuses z < 0"),
+    ("0 workspace a\n0 light.add 0 0 -1\n", "too many arguments"),  # a's arguments, not b's
+    ("0 light.add -1 0\n", "a refuses x < 0"),  # scope None: the first-registered
+    ("0 workspace a\n0 b:light.add 0 0 -1\n", "b refuses z < 0"),
+    ("0 workspace a\n0 a:orbit 1\n", "unknown command 'a:orbit'"),
+])
+def test_a_demo_line_is_refused_by_its_workspaces_check(console, line, message):
+    with pytest.raises(DemoError, match=message):
+        demo.check(console, demo.parse(HEADER + line), arg_checks=scoped_checks([]))
+
+
+def test_a_bare_name_check_never_stands_in_for_a_workspaces(console):
+    checks = ArgChecks()
+    checks.add("light.add")(lambda *args: pytest.fail("the bare name's check ran for a:light.add"))
+    demo.check(console, demo.parse(HEADER + "0 light.add 1 2\n0 a:light.add 1 2\n"), arg_checks=checks)
+
+
+def test_after_lines_it_cannot_see_the_checker_accepts_any_workspaces_command(console):
+    # the alias may switch the workspace, so `light.add x y z` may be b's: not refused for a's arguments
+    text = HEADER + "0 workspace a\n0 alias go 'workspace b'\n0 go\n0 light.add 1 2 3\n0 light.add 1 2\n"
+    demo.check(console, demo.parse(text), arg_checks=scoped_checks([]))
+    with pytest.raises(DemoError, match="too many arguments"):  # a named workspace is known again
+        demo.check(console, demo.parse(text + "0 workspace a\n0 light.add 1 2 3\n"), arg_checks=scoped_checks([]))
+
+
+def test_reshapers_stay_keyed_by_bare_name(console):
+    checks, seen = ArgChecks(), []
+    checks.scoped("b").reshaped_by("lights3d", "light.add")
+    checks.scoped("b").add("orbit", "lights3d")(lambda yaw: seen.append(yaw))
+    demo.check(console, demo.parse(HEADER + "0 orbit 1\n0 light.add 1 2\n0 orbit 2\n"), arg_checks=checks)
+    assert seen == [1.0]  # a's light.add counts too: a skipped check, never a wrong one
+    assert checks.keys() == ["b:orbit"]
+
+
 def test_a_line_is_recorded_as_typed(console):
     recorded = []
     console.record_listeners.append(recorded.append)
@@ -216,3 +283,16 @@ def test_lua_runs_bare_and_qualified_names(console):
     console.registry.scope = "a"
     assert LuaScripting(console).run_string('cmd["light.add"](1, 2); cmd["b:light.add"](3, 4, 5)', "t.lua")
     assert console.calls == [("a", 1.0, 2.0), ("b", 3.0, 4.0, 5.0)]
+
+
+# ---- the editor -----------------------------------------------------------------------------------------
+
+def test_every_editor_check_names_a_registered_command_or_cvar(tmp_path, monkeypatch):
+    """A command moved into a workspace must take its check along (`checks.scoped(ws).add`): a check left
+    under the bare name would never run."""
+    from app.editor import Editor
+
+    monkeypatch.chdir(tmp_path)
+    editor = Editor(configs=False)
+    names = {*editor.console.registry.commands, *editor.console.registry.cvars}  # exact keys: no resolving
+    assert [key for key in editor.demos.arg_checks.keys() if key not in names] == []
