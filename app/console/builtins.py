@@ -73,7 +73,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             return lua.run_file(path)
 
     console.file_runners[".lua"] = run_lua
-    names = lambda prefix: [n for n in reg.names() if n.startswith(prefix)]  # noqa: E731
+    names = lambda prefix: [n for n in reg.names(":" in prefix) if n.startswith(prefix)]  # noqa: E731
     cvar_names = lambda prefix: [n for n in sorted(reg.cvars) if n.startswith(prefix)]  # noqa: E731
     key_names = lambda prefix: sorted(k for k in KEYS if k.lower().startswith(prefix.lower()))  # noqa: E731
 
@@ -121,20 +121,23 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         nxt = parsed[(parsed.index(c.value) + 1) % len(parsed)] if c.value in parsed else parsed[0]
         c.set(values[parsed.index(nxt)])
 
-    def listing(table: dict, prefix: str, describe, noun: str) -> None:
-        shown = [item for name, item in sorted(table.items()) if name.startswith(prefix)]
-        for item in shown:
-            console.print(describe(item))
-        console.print(f"{len(shown)} {noun}")
+    def listing(lines: list[str], noun: str) -> None:
+        for line in lines:
+            console.print(line)
+        console.print(f"{len(lines)} {noun}")
 
     @reg.command("cvarlist", "[prefix]", "List cvars (A = archived to the user config)", recorded=False)
     def cvarlist(prefix: str = "") -> None:
-        listing(reg.cvars, prefix, lambda c: f"{'A' if c.archive else ' '} {c.name:<22} {c.text():<12} "
-                f"{c.type.__name__:<5} {c.help}", "cvars")
+        listing([f"{'A' if c.archive else ' '} {c.name:<22} {c.text():<12} {c.type.__name__:<5} {c.help}"
+                 for name, c in sorted(reg.cvars.items()) if name.startswith(prefix)], "cvars")
 
-    @reg.command("cmdlist", "[prefix]", "List commands", recorded=False)
+    @reg.command("cmdlist", "[prefix]", "List commands ([workspace] marks one workspace's own)", recorded=False)
     def cmdlist(prefix: str = "") -> None:
-        listing(reg.commands, prefix, lambda c: f"{c.usage():<44} {c.help}", "commands")
+        # by bare name, so each workspace's command of a name stands beside the others; the prefix matches
+        # the bare name or `workspace:name`
+        shown = sorted((c for key, c in reg.commands.items() if key.startswith(prefix) or c.name.startswith(prefix)),
+                       key=lambda c: (c.name, c.scope or ""))
+        listing([f"{c.label():<44} {c.help}" for c in shown], "commands")
 
     @reg.command("help", "[name]", "Describe a command, cvar or alias; alone, say how to find them",
                  completer=names, recorded=False)
@@ -143,10 +146,11 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             console.print("cmdlist [prefix] lists commands, cvarlist [prefix] cvars; help <name> describes one; "
                           "Tab completes.")
         elif name in reg.commands:
-            console.print(f"{reg.commands[name].usage()}: {reg.commands[name].help}")
+            console.print(f"{reg.commands[name].label()}: {reg.commands[name].help}")
         elif name in reg.cvars:
             c = reg.cvars[name]
             bounds = f", {c.min:g}..{c.max:g}" if c.min is not None and c.max is not None else ""
+            bounds += f", one of {'|'.join(c.choices)}" if c.choices else ""
             console.print(f"{name} ({c.type.__name__}{bounds}, now {c.text()}, default {c.default}): {c.help}")
         elif name in reg.aliases:
             console.print(f"alias {name} {shlex.quote(reg.aliases[name])}")

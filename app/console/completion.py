@@ -22,14 +22,15 @@ def complete(registry: Registry, line: str) -> Completion:
     head, sep, last = line.rpartition(" ")
     words = head.split()
     if not sep or not words:
-        matches = [n for n in registry.names() if n.startswith(last)]
+        matches = [n for n in registry.names(":" in last) if n.startswith(last)]  # workspace:name once ':' is typed
         shown = [f"{n} = {registry.cvars[n].text()}" if n in registry.cvars else n for n in matches]
         return Completion(_extend(head + sep, last, matches), shown)
     name = words[0]
     if len(words) == 1 and name in registry.commands and registry.commands[name].completer:
         matches = registry.commands[name].completer(last)
     elif len(words) == 2 and name in TAKES_COMMAND:
-        matches = [n for n in registry.names() if n.startswith(last.lstrip('"'))]
+        word = last.lstrip('"')
+        matches = [n for n in registry.names(":" in word) if n.startswith(word)]
     else:
         return Completion(line, [])
     return Completion(_extend(head + " ", last, matches), matches)

@@ -324,8 +324,8 @@ class Console:
                 raise CommandError(f"{name} takes one value; quote it if it has spaces")
             cvar.set(args[0])
             return True
-        if name in reg.commands:
-            cmd = reg.commands[name]
+        cmd = reg.commands.get(name)  # resolved in the current workspace
+        if cmd is not None:
             cmd.handler(*cmd.bind(args))
             return cmd.recorded
         if name in reg.aliases:

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Callable, Protocol
 
 from app.console.console import Console, split_commands
-from app.console.registry import CommandError
+from app.console.registry import Command, CommandError, Registry
 from app.io.atomic import write_text
 from app.io.regular_file import read_regular_bytes
 
@@ -98,11 +98,12 @@ EVERY_MODEL = "*"
 class ArgChecks:
     """Value checks a demo runs before any of its commands, beyond names and argument types.
 
-    For a command name, a function of its bound arguments (for a cvar name, of its parsed value) that
-    raises CommandError or ValueError where running the command now would be refused, changing nothing:
-    a voxel outside the volume, a slice index past its depth, a light that does not exist. The command
-    modules register them (the registry's Command has no place for one yet); handlers call the same
-    function first, so a check cannot drift from what the command accepts.
+    For a command (by its key: `workspace:name` if scoped) or a cvar name, a function of its bound
+    arguments (for a cvar, of its parsed value) that raises CommandError or ValueError where running the
+    command now would be refused, changing nothing: a voxel outside the volume, a slice index past its
+    depth, a light that does not exist. The command modules register them (the registry's Command has no
+    place for one yet); handlers call the same function first, so a check cannot drift from what the
+    command accepts. A workspace's module registers through `scoped(workspace)`, as its commands are.
 
     A check that reads a model's current shape names that model (a workspace name). Once the demo has
     run a command that may reshape it (`new`, `light.add`, `undo`...: see `reshaped_by`), the checker
@@ -114,28 +115,54 @@ class ArgChecks:
         self._reshapers: dict[str, set[str]] = {}
 
     def add(self, name: str, model: str | None = None) -> Callable[[ArgCheck], ArgCheck]:
-        """Decorator: `check` validates the arguments of command (or cvar) `name`, reading `model`'s shape."""
+        """Decorator: `check` validates the arguments of global command (or cvar) `name`, reading `model`'s shape."""
         def register(check: ArgCheck) -> ArgCheck:
             self._checks[name] = (check, model)
             return check
         return register
 
+    def scoped(self, scope: str) -> ScopedArgChecks:
+        """The checks of workspace `scope`'s commands (registered through `registry.scoped(scope)`)."""
+        return ScopedArgChecks(self, scope)
+
+    def keys(self) -> list[str]:
+        """The command keys and cvar names checked: each should name one the registry has (tests assert it,
+        so a command moved into a workspace does not leave its check behind under the bare name)."""
+        return sorted(self._checks)
+
     def reshaped_by(self, model: str, *names: str) -> None:
-        """These commands may change `model`'s shape (sizes, counts), so later checks of it cannot be trusted."""
+        """These commands may change `model`'s shape (sizes, counts), so later checks of it cannot be trusted.
+        By bare name: every workspace's command of the name counts (more skipped checks, never a wrong one)."""
         for name in names:
             self._reshapers.setdefault(name, set()).add(model)
 
-    def run(self, name: str, values: list, unknown: set[str]) -> None:
-        """Check one command unless its model's shape is `unknown`; then add what it reshapes to `unknown`."""
-        check, model = self._checks.get(name, (None, None))
+    def run(self, key: str, values: list, unknown: set[str]) -> None:
+        """Check one command (`key`: the resolved Command's key, or a cvar's name) unless its model's shape
+        is `unknown`; then add what it reshapes to `unknown`."""
+        check, model = self._checks.get(key, (None, None))
         if check is not None and not {model, EVERY_MODEL} & unknown:
             check(*values)
-        unknown |= self._reshapers.get(name, set())
+        unknown |= self._reshapers.get(key.rpartition(":")[2], set())  # kept by bare name
+
+
+class ScopedArgChecks:
+    """`checks.scoped("volume")`: `add` registers under `volume:name`, the key of that workspace's command."""
+
+    def __init__(self, checks: ArgChecks, scope: str) -> None:
+        self._checks, self._scope = checks, scope
+
+    def add(self, name: str, model: str | None = None) -> Callable[[ArgCheck], ArgCheck]:
+        return self._checks.add(f"{self._scope}:{name}", model)
+
+    def reshaped_by(self, model: str, *names: str) -> None:
+        self._checks.reshaped_by(model, *names)
 
 
 @dataclass
 class _Seen:
     """What the checker knows of the state a demo builds as it goes."""
+    scope: str | None  # the workspace the next line runs in (`workspace NAME` switches it)
+    scope_known: bool = True  # False once a line ran commands unseen (an alias, a script): they may switch it
     cvars: set[str] = field(default_factory=set)  # made by the demo's own `set`: typed only when it runs
     aliases: set[str] = field(default_factory=set)  # made by the demo's own `alias`
     unknown: set[str] = field(default_factory=set)  # models whose shape an earlier command may have changed
@@ -143,8 +170,9 @@ class _Seen:
 
 def check(console: Console, events: list[Event], source: str = "demo", arg_checks: ArgChecks | None = None) -> None:
     """Refuse commands the console does not know, whose arguments cannot bind, or whose values it would
-    refuse now (cvars by their type and range, commands by `arg_checks`), before any runs."""
-    checks, seen = arg_checks or ArgChecks(), _Seen()
+    refuse now (cvars by their type and range, commands by `arg_checks`), before any runs. Names resolve
+    in the workspace the demo will be in at that line: the current one, until it switches."""
+    checks, seen = arg_checks or ArgChecks(), _Seen(console.registry.scope)
     for event in events:
         try:
             for words in split_commands(event.line):
@@ -167,16 +195,34 @@ def _check_command(console: Console, checks: ArgChecks, words: list[str], seen: 
         return
     if name in seen.aliases or name in reg.aliases or any(name.endswith(s) for s in console.file_runners):
         seen.unknown.add(EVERY_MODEL)  # it runs commands the checker does not see
-    elif name in reg.commands:
-        command = reg.commands[name]
-        checks.run(name, command.bind(args), seen.unknown)
+        seen.scope_known = False
+    elif (command := reg.resolve(name, seen.scope)) is not None:
+        if not seen.scope_known and command.scope is not None and command.key != name:
+            command = _any_binding(reg, command, args)
+        checks.run(command.key, command.bind(args), seen.unknown)
         if not command.recorded:  # a query, or a runner of others (exec, lua): assume the worst
             seen.unknown.add(EVERY_MODEL)
+            seen.scope_known = False
+        elif command.key == "workspace" and args:
+            seen.scope, seen.scope_known = args[0], True
     elif name in reg.cvars:
         if len(args) == 1:
             checks.run(name, [reg.cvars[name].parse(args[0])], seen.unknown)
     elif name != "wait":
         raise CommandError(f"unknown command {name!r}")
+
+
+def _any_binding(reg: Registry, command: Command, args: list[str]) -> Command:
+    """The workspace is unknown here, so a bare name may run any workspace's command of that name: one
+    whose arguments bind (else `command`, whose bind then says why not). Its model checks are skipped."""
+    for other in reg.commands.values():
+        if other.name == command.name and other.scope is not None:
+            try:
+                other.bind(args)
+                return other
+            except CommandError:
+                pass
+    return command
 
 
 def load(console: Console, path: Path, arg_checks: ArgChecks | None = None) -> list[Event]:

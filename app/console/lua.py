@@ -624,7 +624,7 @@ class LuaScripting:
 
     def _command(self, name: bytes, *args: Any) -> tuple:
         command = _decode(name)
-        if command not in self.console.registry.names():
+        if command not in self.console.registry.names(qualified=True):
             return False, f"unknown command {command!r}".encode()
         return self._run_line(_join([command, *map(_text, args)]))
 

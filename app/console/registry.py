@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 import re
 import shlex
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -63,6 +64,16 @@ class Command:
     completer: Callable[[str], list[str]] | None = None  # candidates for the argument being typed
     recorded: bool = True  # False for queries and for commands that only run others (exec, lua, play)
     quiet: bool = False    # sent many times a second by a drag or hover: run without echoing the line
+    scope: str | None = None  # the workspace that owns it; None: global
+
+    @property
+    def key(self) -> str:
+        """The name that always means this command: `workspace:name` if scoped."""
+        return f"{self.scope}:{self.name}" if self.scope else self.name
+
+    def label(self) -> str:
+        """The usage as help and cmdlist show it: `[volume] sample <name> [<size>]`."""
+        return f"[{self.scope}] {self.usage()}" if self.scope else self.usage()
 
     def usage(self) -> str:
         return " ".join([self.name, *(p.usage() for p in self.params)])
@@ -112,6 +123,7 @@ class Cvar:
     archive: bool = False
     on_change: list[Callable[["Cvar"], None]] = field(default_factory=list)
     user_created: bool = False  # made by `set`; a later registration of the name takes it over
+    choices: tuple[str, ...] | None = None  # the only values a text cvar takes
 
     def __post_init__(self) -> None:
         self.value = self.parse(str(self.default))
@@ -129,6 +141,8 @@ class Cvar:
             raise CommandError(f"{self.name} must be finite, got {text!r}")
         if self.min is not None and value < self.min or self.max is not None and value > self.max:
             raise CommandError(f"{self.name} must be within {self.min:g}..{self.max:g}, got {text}")
+        if self.choices is not None and value not in self.choices:
+            raise CommandError(f"{self.name} must be one of {', '.join(self.choices)}, got {text!r}")
         return value
 
     def set(self, text: str) -> None:
@@ -161,29 +175,73 @@ class Cvar:
         return repr(self.value) if self.type is float else str(self.value)
 
 
+class CommandTable(Mapping[str, Command]):
+    """Registry.commands: iterates Command keys in registration order; a lookup (`in`, `[]`, `get`)
+    resolves a name as the console runs it, in the registry's current scope (Registry.resolve)."""
+
+    def __init__(self, registry: Registry) -> None:
+        self._registry = registry
+
+    def __getitem__(self, name: str) -> Command:
+        command = self._registry.resolve(name, self._registry.scope)
+        if command is None:
+            raise KeyError(name)
+        return command
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._registry._by_key)
+
+    def __len__(self) -> int:
+        return len(self._registry._by_key)
+
+
 class Registry:
-    """Names are unique across commands and cvars, so typing a name is never ambiguous."""
+    """Typing a name is never ambiguous: global commands, cvars and aliases have names of their own, and a
+    command scoped to a workspace shares its bare name only with other workspaces' commands, resolved by
+    the current workspace (`scope`). `workspace:name` names a scoped command exactly."""
 
     def __init__(self) -> None:
-        self.commands: dict[str, Command] = {}
+        self._by_key: dict[str, Command] = {}
+        self._first: dict[str, str] = {}  # a scoped command's bare name -> the key that registered it first
+        self.commands = CommandTable(self)
         self.cvars: dict[str, Cvar] = {}
         self.aliases: dict[str, str] = {}
         self.cvar_changes = 0  # counts every cvar change: hosts redraw when it moves
+        self.scope: str | None = None  # the current workspace: the editor sets it when it switches
 
     def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True,
-                quiet: bool = False):
+                quiet: bool = False, scope: str | None = None):
         """Decorator: register `handler` under `name` with an argument spec like 'x:float [y:int]'."""
 
         def register(handler):
-            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded, quiet))
+            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded, quiet, scope))
             return handler
 
         return register
 
+    def scoped(self, scope: str) -> ScopedRegistry:
+        """The registry as a workspace's command module uses it: its commands are scoped to `scope`."""
+        return ScopedRegistry(self, scope)
+
     def add_command(self, cmd: Command) -> Command:
-        self._claim(cmd.name)
-        self.commands[cmd.name] = cmd
+        if cmd.scope is None:
+            self._claim(cmd.name)
+        else:
+            self._claim_scoped(cmd)
+            self._first.setdefault(cmd.name, cmd.key)
+        self._by_key[cmd.key] = cmd
         return cmd
+
+    def resolve(self, name: str, scope: str | None) -> Command | None:
+        """The command `name` runs in workspace `scope`: an exact key (a global name or `workspace:name`);
+        else that workspace's own command of the name; else the one of the workspace that registered the
+        name first, so a name keeps the meaning it had before other workspaces took it up."""
+        command = self._by_key.get(name)
+        if command is None and scope is not None:
+            command = self._by_key.get(f"{scope}:{name}")
+        if command is None and name in self._first:
+            command = self._by_key[self._first[name]]
+        return command
 
     def add_cvar(self, cvar: Cvar) -> Cvar:
         """Register a cvar; one that `set` made earlier (a config ran first) hands over its value."""
@@ -209,11 +267,46 @@ class Registry:
             self._claim(name)
         self.aliases[name] = text
 
-    def names(self) -> list[str]:
-        return sorted([*self.commands, *self.cvars, *self.aliases])
+    def names(self, qualified: bool = False) -> list[str]:
+        """What Tab completes: global names, cvars, aliases and scoped commands' bare names; `qualified`
+        (a ':' was typed) adds every `workspace:name`."""
+        names = [*self.cvars, *self.aliases, *self._first]
+        names += [key for key, command in self._by_key.items() if command.scope is None or qualified]
+        return sorted(names)
 
     def _claim(self, name: str) -> None:
-        if not name or any(c.isspace() for c in name) or name[0] in "\"';" or ";" in name or _CONTROL.search(name):
-            raise ValueError(f"bad console name {name!r}")
-        if name in self.commands or name in self.cvars or name in self.aliases:
+        """A global command's, cvar's or alias's name: unused, and no workspace's command's bare name."""
+        _check_name(name)
+        if name in self._by_key or name in self._first or name in self.cvars or name in self.aliases:
             raise ValueError(f"console name {name!r} is already registered")
+
+    def _claim_scoped(self, cmd: Command) -> None:
+        """A workspace's command: its bare name may repeat in other workspaces but names no global command,
+        cvar or alias (a bare name would be ambiguous), and its key is registered once."""
+        _check_name(cmd.name)
+        _check_name(cmd.scope)
+        if ":" in cmd.name or ":" in cmd.scope:
+            raise ValueError(f"bad console name {cmd.key!r}: ':' separates the workspace from the name")
+        for name in (cmd.name, cmd.key):  # a key without ':' in the table is a global command's
+            if name in self._by_key or name in self.cvars or name in self.aliases:
+                raise ValueError(f"console name {name!r} is already registered")
+
+
+def _check_name(name: str) -> None:
+    if not name or any(c.isspace() for c in name) or name[0] in "\"';" or ";" in name or _CONTROL.search(name):
+        raise ValueError(f"bad console name {name!r}")
+
+
+class ScopedRegistry:
+    """`registry.scoped("volume")`: `command` registers commands scoped to that workspace; everything
+    else (cvars, aliases, lookups) is the registry's own."""
+
+    def __init__(self, registry: Registry, scope: str) -> None:
+        self._registry, self._scope = registry, scope  # `scope` itself reads the registry's (the current one)
+
+    def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True,
+                quiet: bool = False):
+        return self._registry.command(name, spec, help, completer, recorded, quiet, scope=self._scope)
+
+    def __getattr__(self, attribute: str):
+        return getattr(self._registry, attribute)
