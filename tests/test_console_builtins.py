@@ -60,7 +60,7 @@ def test_lists_and_help(editor):
     e.execute("cmdlist snow.")
     assert out(e) == "8 commands"
     e.execute("help snow.add")
-    assert out(e).startswith("snow.add <x> <y> [<radius>]:")
+    assert out(e).startswith("[snowflake] snow.add <x> <y> [<radius>]:")
     e.execute("help cl_steps")
     assert "now 128" in out(e)
     assert not e.execute("help nothing")

@@ -150,3 +150,12 @@ def test_commands_stop_at_the_counts_a_scene_file_holds_so_a_save_always_loads(e
         assert editor.execute(f"workspace {workspace}; scene.save {tmp_path / workspace}.json")
         saved = editor.digest()
         assert editor.execute(f"scene.load {tmp_path / workspace}.json") and editor.digest() == saved
+
+
+def test_the_volume_workspace_scene_files_are_its_volumes(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    editor = Editor(configs=False)
+    assert editor.execute("workspace volume; sample cornell_box 16; scene.save box.r3")
+    saved = editor.workspaces["volume"].volume.digest()
+    assert editor.execute("new 4 4 4; scene.load box.r3")
+    assert editor.workspaces["volume"].volume.digest() == saved

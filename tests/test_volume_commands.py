@@ -10,7 +10,7 @@ from app.editor import Editor
 def editor(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     e = Editor(clock=VirtualClock())
-    assert e.execute("new 8 6 4")
+    assert e.execute("workspace volume; new 8 6 4")  # undo acts on the workspace in view
     return e
 
 
@@ -121,7 +121,7 @@ def test_pick_sets_the_brush(editor):
 
 def test_cube_lua_draws_a_cube_open_on_one_side():
     e = Editor()
-    assert e.execute("cube.lua")
+    assert e.execute("workspace volume; cube.lua")  # undo below acts on the workspace in view
     data = e.workspaces["volume"].volume.data
     n = e.workspaces["volume"].volume.size[0]
     solid = data[..., 3] > 0

@@ -15,7 +15,9 @@ from app.model import volume as vm
 @pytest.fixture
 def editor(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    return Editor(clock=VirtualClock())
+    e = Editor(clock=VirtualClock())
+    assert e.execute("workspace volume")  # undo acts on the workspace in view
+    return e
 
 
 def fifo(tmp_path) -> str:

@@ -105,13 +105,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         scene().touch()
         return len(items) - 1
 
-    @checks.add("r_shadowMethod")
-    def method(value: str) -> None:
-        if value not in METHODS:
-            raise CommandError(f"r_shadowMethod must be one of {', '.join(METHODS)}, got {value!r}")
-
     reg.add_cvar(Cvar("r_shadowMethod", str, "exact", "2D soft shadows: " + ", ".join(METHODS), archive=True,
-                      on_change=[lambda cvar: method(cvar.value)]))
+                      choices=METHODS))
     reg.add_cvar(Cvar("r_shadowSamples", int, 16, "jitter: hard shadows averaged", min=1, max=64, archive=True))
     reg.add_cvar(Cvar("r_shadowBlur", float, 0.25, "blur: Gaussian sigma as a share of the light radius",
                       min=0.01, max=4.0, archive=True))

@@ -1,0 +1,38 @@
+"""The renderer host draws every built workspace through the gl layer's mapping, with settings the
+commands build from the cvars, and releases what each renderer made."""
+import numpy as np
+import pytest
+
+from app.editor import Editor
+from app.gl.headless import OffscreenTarget
+from app.gl.workspace_renderer import EMPTY_BACKGROUND, RENDERERS, WorkspaceRenderer
+from app.model.workspace import Workspace
+
+
+@pytest.fixture(scope="module")
+def editor():
+    return Editor(configs=False)
+
+
+@pytest.mark.parametrize("name", sorted(RENDERERS))
+def test_each_workspace_draws_something_and_releases_what_it_made(gl, editor, name):
+    host = WorkspaceRenderer(gl)
+    target = OffscreenTarget(gl, (96, 64))
+    assert editor.execute(f"workspace {name}")
+    host.render(target.fbo, editor.current, editor.render_settings())
+    image = target.read()
+    assert (image != image[0, 0]).any(axis=-1).mean() > 0.02  # a scene, not a cleared background
+    assert list(host.renderers) == [name]  # only the workspace shown made a renderer
+    assert host.release() > 0 and not host.renderers
+    target.release()
+
+
+def test_a_workspace_without_a_renderer_is_an_empty_background(gl):
+    class Bare(Workspace):
+        name = "bare"
+
+    host = WorkspaceRenderer(gl)
+    target = OffscreenTarget(gl, (16, 16))
+    assert host.render(target.fbo, Bare(), None) is False
+    assert np.abs(target.read()[8, 8] / 255 - np.array(EMPTY_BACKGROUND)).max() < 1 / 255 + 1e-6
+    target.release()
