@@ -19,6 +19,10 @@ class Camera2D:
         if not (math.isfinite(self.height) and self.height > 0):
             raise ValueError(f"camera height must be > 0, got {self.height}")
 
+    def key(self) -> tuple[float, float, float]:
+        """What the view shows: its part of a workspace's version and digest."""
+        return self.cx, self.cy, self.height
+
     def scale_offset(self, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
         """clip = world * scale + offset; y up in world and in clip space. In double: a centre near 1e6
         times the scale must not round to float32 before a renderer subtracts what it needs."""

@@ -60,12 +60,10 @@ class Lighting2DWorkspace(Workspace):
         cam.cx, cam.cy, cam.height = scene.view
 
     def version(self) -> tuple:
-        cam = self.camera
-        return self.scene.version, cam.cx, cam.cy, cam.height
+        return self.scene.version, self.camera.key()
 
     def digest(self) -> dict[str, str]:
-        cam = self.camera
-        return {"lighting2d": self.scene.digest(), "lighting2d.camera": short_hash(cam.cx, cam.cy, cam.height)}
+        return {"lighting2d": self.scene.digest(), "lighting2d.camera": short_hash(*self.camera.key())}
 
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the 2D scene and its view exactly (floats as repr)."""

@@ -20,12 +20,10 @@ class SnowflakeWorkspace(Workspace):
                                        lambda state: self.scene.replace(*state))
 
     def version(self) -> tuple:
-        cam = self.camera
-        return self.scene.version, cam.cx, cam.cy, cam.height
+        return self.scene.version, self.camera.key()
 
     def digest(self) -> dict[str, str]:
-        cam = self.camera
-        return {"snowflake": self.scene.digest(), "snowflake.camera": short_hash(cam.cx, cam.cy, cam.height)}
+        return {"snowflake": self.scene.digest(), "snowflake.camera": short_hash(*self.camera.key())}
 
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the scene and its view exactly (floats as repr)."""
