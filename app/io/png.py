@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import os
+import warnings
 from typing import BinaryIO
 
 import numpy as np
@@ -59,7 +60,9 @@ def decode_png(data: bytes) -> np.ndarray:
 def _decode(f: BinaryIO) -> np.ndarray:
     """OSError, with a message that says why, for anything but a readable image of at most MAX_PIXELS."""
     try:
-        image = Image.open(f, formats=FORMATS)  # the header only: load() decodes the pixels
+        with warnings.catch_warnings():  # Pillow's warning of a big image: MAX_PIXELS below refuses it anyway
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            image = Image.open(f, formats=FORMATS)  # the header only: load() decodes the pixels
     except UnidentifiedImageError:  # its message shows the file object's repr
         raise OSError("not an image Pillow can read") from None
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:  # the warning under -W error
