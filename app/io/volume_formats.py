@@ -23,6 +23,7 @@ import os
 import re
 import struct
 import zlib
+import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -411,7 +412,9 @@ class _Series:
 
 def _open_image(path: Path, f: BinaryIO) -> Image.Image:
     try:
-        return Image.open(f, formats=_PIL_FORMATS)
+        with warnings.catch_warnings():  # Pillow's warning of a big image: _check_shape refuses it by its size
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            return Image.open(f, formats=_PIL_FORMATS)
     except UnidentifiedImageError:  # its message shows the file object's repr, not a name
         raise FormatError(f"{path} is not a {', '.join(_PIL_FORMATS[:-1])} or {_PIL_FORMATS[-1]} image") from None
 
