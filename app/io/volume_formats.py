@@ -22,8 +22,8 @@ import math
 import os
 import re
 import struct
-import zlib
 import warnings
+import zlib
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
