@@ -29,7 +29,7 @@ WORLEY_FBM_WEIGHTS = (0.625, 0.25, 0.125)
 SHAPE_WEIGHTS = (8 / 15, 4 / 15, 2 / 15, 1 / 15)
 # The detail texture's three channels, halving weights (4, 2, 1) / 7.
 DETAIL_WEIGHTS = (4 / 7, 2 / 7, 1 / 7)
-SHAPE_PERLIN_FREQUENCY = 4  # the Perlin fBm's lowest octave, cells per tile; octaves double up to the size
+SHAPE_PERLIN_FREQUENCY = 4  # the Perlin fBm's lowest octave, cells per tile; octaves double up to half the size
 SHAPE_WORLEY_FREQUENCIES = (4, 4, 8, 16)  # base frequency of the Worley fBm in R (with Perlin), G, B, A
 DETAIL_WORLEY_FREQUENCIES = (2, 4, 8)  # base frequency of the Worley fBm in R, G, B
 CURL_FREQUENCY = 4  # the curl potential's lowest octave
@@ -77,9 +77,9 @@ def _axis_shape(v: np.ndarray, axis: int, dim: int) -> np.ndarray:
 
 
 def _random_gradients(rng: np.random.Generator, n: int, dim: int) -> np.ndarray:
-    g = rng.standard_normal((n,) * dim + (dim,))
-    g /= np.maximum(np.linalg.norm(g, axis=-1, keepdims=True), 1e-12)
-    return g.astype(np.float32)
+    g = rng.standard_normal((n,) * dim + (dim,), dtype=np.float32)
+    g /= np.maximum(np.sqrt((g * g).sum(axis=-1, keepdims=True)), np.float32(1e-12))
+    return g
 
 
 def perlin(size: int, frequency: int, rng: np.random.Generator, dim: int = 3) -> np.ndarray:
@@ -94,35 +94,39 @@ def perlin(size: int, frequency: int, rng: np.random.Generator, dim: int = 3) ->
     f = ((np.arange(b, dtype=np.float32) + 0.5) / b).astype(np.float32)
     fade = f * f * f * (f * (f * 6 - 15) + 10)
     out = np.zeros((n, b) * dim, dtype=np.float32)
+    term = np.empty_like(out)
     for corner in itertools.product((0, 1), repeat=dim):
         g = np.roll(grads, shift=[-c for c in corner], axis=tuple(range(dim)))  # the gradient at cell + corner
-        dot: np.ndarray | float = 0.0
+        term.fill(0)
         weight: np.ndarray | float = 1.0
         for k in range(dim):
-            dot = dot + _cell_shape(g[..., k], dim) * _axis_shape(f - corner[k], k, dim)
+            term += _cell_shape(g[..., k], dim) * _axis_shape(f - corner[k], k, dim)  # the dot product, axis k
             weight = weight * _axis_shape(fade if corner[k] else 1 - fade, k, dim)
-        out += dot * weight
+        term *= weight
+        out += term
     return out.reshape((size,) * dim)
 
 
 def perlin_fbm(size: int, frequency: int, rng: np.random.Generator, octaves: int | None = None, dim: int = 3,
                steps: _Steps | None = None) -> np.ndarray:
-    """Octaves of Perlin noise at frequency, 2x, 4x ... (up to the size, or `octaves` of them), amplitude
-    halving, scaled back to about -1..1."""
+    """Octaves of Perlin noise at frequency, 2x, 4x ... (up to half the size, at least one, or `octaves` of them),
+    amplitude halving, scaled back to about -1..1."""
     out = np.zeros((size,) * dim, dtype=np.float32)
     total = 0.0
     amplitude = 1.0
     f = frequency
-    for _ in range(octaves if octaves is not None else 32):
-        if f > size:
-            break
-        out += np.float32(amplitude) * perlin(size, f, rng, dim)
+    for _ in range(min(octaves or 32, _perlin_octaves(size, frequency))):
+        octave = perlin(size, f, rng, dim)
+        octave *= np.float32(amplitude)
+        out += octave
+        del octave
         total += amplitude
         amplitude *= 0.5
         f *= 2
         if steps is not None:
             steps.step()
-    return out / np.float32(total)
+    out /= np.float32(total)
+    return out
 
 
 def worley(size: int, frequency: int, rng: np.random.Generator) -> np.ndarray:
@@ -149,7 +153,11 @@ def worley_fbm(size: int, frequency: int, rng: np.random.Generator, steps: _Step
     """Inverted Worley (1 - w) at frequency, 2x and 4x, weighted by WORLEY_FBM_WEIGHTS: 0..1, 1 at the points."""
     out = np.zeros((size,) * 3, dtype=np.float32)
     for octave, weight in enumerate(WORLEY_FBM_WEIGHTS):
-        out += np.float32(weight) * (1 - worley(size, frequency << octave, rng))
+        w = worley(size, frequency << octave, rng)
+        np.subtract(1, w, out=w)
+        w *= np.float32(weight)
+        out += w
+        del w
         if steps is not None:
             steps.step()
     return out
@@ -165,7 +173,8 @@ def _normalise(a: np.ndarray) -> np.ndarray:
 
 
 def _perlin_octaves(size: int, frequency: int) -> int:
-    return sum(1 for o in range(32) if frequency << o <= size)
+    """Octaves up to two texels a cell (finer ones alias), at least one."""
+    return max(1, sum(1 for o in range(32) if frequency << o <= size // 2))
 
 
 def shape_noise(size: int = 128, seed: int = 0, progress: Progress | None = None) -> np.ndarray:
@@ -178,7 +187,7 @@ def shape_noise(size: int = 128, seed: int = 0, progress: Progress | None = None
     R' = remap(R, GBA - 1, 1, 0, 1), needs the channels apart in the shader; the single channel keeps the
     texture at 8 MiB and one fetch.
 
-    Perlin-Worley (Schneider, Nubis 2015): a billowy Perlin fBm P (|noise|, inverted, octaves 4, 8, ... up to the
+    Perlin-Worley (Schneider, Nubis 2015): a billowy Perlin fBm P (|noise|, inverted, octaves 4, 8, ... up to half the
     size) remapped by a Worley fBm W: remap(P, 0, 1, W, 1) = W + P (1 - W), so the Perlin fills the gaps of the
     cells. The sum is finally stretched to exactly 0..1.
     """
@@ -187,12 +196,19 @@ def shape_noise(size: int = 128, seed: int = 0, progress: Progress | None = None
     steps = _Steps(progress, _perlin_octaves(size, SHAPE_PERLIN_FREQUENCY) + 3 * len(SHAPE_WORLEY_FREQUENCIES) + 1)
     p = perlin_fbm(size, SHAPE_PERLIN_FREQUENCY, rng, steps=steps)
     np.abs(p, out=p)
-    p = 1 - np.minimum(p, 1.0)  # billowy: 1 on the zero set of the noise, falling towards its extremes
+    np.minimum(p, 1.0, out=p)
+    np.subtract(1, p, out=p)  # billowy: 1 on the zero set of the noise, falling towards its extremes
     w = worley_fbm(size, SHAPE_WORLEY_FREQUENCIES[0], rng, steps)
-    out = np.float32(SHAPE_WEIGHTS[0]) * (w + p * (1 - w))
+    out = np.subtract(1, w)  # remap(P, 0, 1, W, 1) = W + P (1 - W), then weighted
+    out *= p
+    out += w
+    out *= np.float32(SHAPE_WEIGHTS[0])
     del p, w
     for frequency, weight in zip(SHAPE_WORLEY_FREQUENCIES[1:], SHAPE_WEIGHTS[1:]):
-        out += np.float32(weight) * worley_fbm(size, frequency, rng, steps)
+        channel = worley_fbm(size, frequency, rng, steps)
+        channel *= np.float32(weight)
+        out += channel
+        del channel
     out = _normalise(out)
     steps.step()
     return out
@@ -210,7 +226,9 @@ def detail_noise(size: int = 32, seed: int = 0, progress: Progress | None = None
     steps = _Steps(progress, 3 * len(DETAIL_WORLEY_FREQUENCIES) + 1)
     out = np.zeros((size,) * 3, dtype=np.float32)
     for frequency, weight in zip(DETAIL_WORLEY_FREQUENCIES, DETAIL_WEIGHTS):
-        out += np.float32(weight) * worley_fbm(size, frequency, rng, steps)
+        channel = worley_fbm(size, frequency, rng, steps)
+        channel *= np.float32(weight)
+        out += channel
     out = _normalise(out)
     steps.step()
     return out
