@@ -13,9 +13,7 @@ from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
 from app.views.viewport import Viewport
 from app.views.weak_callback import weak_callback
-from app.views.workspace_views import VIEWS
-
-DEFAULT_DOCK_WIDTH = 260
+from app.views.workspace_views import DEFAULT_DOCK_WIDTH, VIEWS
 
 
 class MainWindow(QMainWindow):

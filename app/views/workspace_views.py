@@ -17,6 +17,9 @@ from app.views.snowflake_tool import SnowflakeTool
 from app.views.volume_tool import VolumeTool
 
 
+DEFAULT_DOCK_WIDTH = 260
+
+
 @dataclass(frozen=True)
 class WorkspaceViews:
     """`tool(viewport, state, run)` handles the viewport's mouse and keys (press, move, release, wheel;
@@ -24,7 +27,7 @@ class WorkspaceViews:
     brings it in line with the model while the workspace is current."""
     tool: Callable | None = None
     panel: Callable[..., QWidget] | None = None
-    dock_width: int = 260
+    dock_width: int = DEFAULT_DOCK_WIDTH
 
 
 class Scrolled(QScrollArea):
@@ -77,5 +80,5 @@ def volume_panel(window, state, tool) -> QWidget:
 VIEWS: dict[str, WorkspaceViews] = {
     "lighting2d": WorkspaceViews(Lighting2DTool, lighting2d_panel, 300),
     "volume": WorkspaceViews(VolumeTool, volume_panel, 520),
-    "snowflake": WorkspaceViews(SnowflakeTool, lambda window, state, tool: SnowflakePanel(state, window.run), 260),
+    "snowflake": WorkspaceViews(SnowflakeTool, lambda window, state, tool: SnowflakePanel(state, window.run)),
 }
