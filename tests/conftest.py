@@ -48,6 +48,18 @@ def _qt_windows_die_with_their_test(request):
         release_qt_windows()
 
 
+@pytest.fixture
+def volume_editor(tmp_path, monkeypatch):
+    """An editor in the volume workspace (undo acts on the workspace in view), working in tmp_path."""
+    from app.console.demo import VirtualClock
+    from app.editor import Editor
+
+    monkeypatch.chdir(tmp_path)
+    editor = Editor(clock=VirtualClock())
+    assert editor.execute("workspace volume")
+    return editor
+
+
 @pytest.fixture(scope="module")
 def gl():
     """A headless EGL context (Mesa llvmpipe here), current, with a small framebuffer bound."""

@@ -7,11 +7,9 @@ from app.editor import Editor
 
 
 @pytest.fixture
-def editor(tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)
-    e = Editor(clock=VirtualClock())
-    assert e.execute("workspace volume; new 8 6 4")  # undo acts on the workspace in view
-    return e
+def editor(volume_editor):
+    assert volume_editor.execute("new 8 6 4")
+    return volume_editor
 
 
 def last_error(editor):

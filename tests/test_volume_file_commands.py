@@ -6,18 +6,13 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.console.demo import VirtualClock
-from app.editor import Editor
 from app.io.volume_formats import write_volume
 from app.model import volume as vm
 
 
 @pytest.fixture
-def editor(tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)
-    e = Editor(clock=VirtualClock())
-    assert e.execute("workspace volume")  # undo acts on the workspace in view
-    return e
+def editor(volume_editor):
+    return volume_editor
 
 
 def fifo(tmp_path) -> str:
