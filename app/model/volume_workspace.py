@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import shlex
+from functools import cache
 from typing import Callable
 
 from app.model.volume import Volume
@@ -10,6 +11,12 @@ from app.model.volume_view import VolumeView
 from app.model.workspace import Workspace, short_hash
 
 DEFAULT_SAMPLE = "coords3d"  # Tex3Dtrace opened coords3d by default
+
+
+@cache
+def _default_digest() -> str:
+    """The opening volume's digest, made once: a demo recorded from it opens with `sample`, not a snapshot."""
+    return Volume(make(DEFAULT_SAMPLE)).digest()
 
 
 class VolumeHistory:
@@ -55,7 +62,7 @@ class VolumeWorkspace(Workspace):
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
         snapshot file beside the demo."""
         v = self.view
-        if self.volume.digest() == Volume(make(DEFAULT_SAMPLE)).digest():
+        if self.volume.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
             lines = [f"load {shlex.quote(snapshot())}"]
