@@ -1,0 +1,299 @@
+"""The clouds workspace's model (seed 001, after Nubis): its parameters, its view and sun, and the per-frame
+constants that the GPU shader (resources/shaders/clouds.shl) and the CPU reference (app/reference/clouds.py)
+both read, so the two render one model. docs/clouds.md, "The model", writes out the formulas.
+
+Units are metres and seconds; y is up; the planet's centre is (0, -PLANET_RADIUS, 0) and the camera stands
+above the origin at its altitude (the wind moves the clouds, not the camera)."""
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+from dataclasses import dataclass, fields, replace
+
+if TYPE_CHECKING:
+    import numpy as np
+
+PLANET_RADIUS = 400_000.0
+LAYER_BOTTOM = 1500.0          # altitude of the cloud layer's base
+LAYER_TOP = 5500.0             # ... and of its top
+CIRRUS_ALTITUDE = LAYER_TOP + 3000.0  # the high 2D clouds' shell (the seed's)
+FOV_Y_DEG = 60.0               # vertical field of view
+EXTINCTION = 0.02              # sigma_t per metre at density 1 and cloud sample 1 (the seed's light march scale)
+MAX_MARCH = 80_000.0           # the longest cloud segment marched, metres (a grazing ray through the shell)
+MAX_ALTITUDE = 20_000.0
+SHEAR = 700.0                  # metres of wind-direction offset from the layer's base to its top (the seed's)
+CONE_VECTORS = ((-0.6, -0.8, -0.2), (1.0, -0.3, 0.0), (-0.7, 0.0, 0.7), (-0.2, 0.6, -0.8), (0.4, 0.3, 0.9))
+FAR_LIGHT_STEPS = 32.0         # the far light sample, in light steps beyond the cone (the seed's)
+FAR_WEIGHT = 3.0               # ... and the light steps it stands for
+LONG_LIGHT_SAMPLES = 30        # light_samples 30: the cone, then 25 samples 4 light steps apart
+LONG_SPACING = 4.0
+OCTAVES = 3                    # multiple scattering (Wrenninge): octave i scales by a^i, b^i, c^i
+OCTAVE_A = OCTAVE_B = OCTAVE_C = 0.5
+GROUND_SHADOW_SAMPLES = 8      # density samples along the sun ray through the layer above a ground point
+# The seed's cloud-type height profiles (its camera prefab's gradients): smoothstep(x, y) - smoothstep(z, w)
+# of the height fraction, stratus / stratocumulus / cumulus at type 0 / 0.5 / 1.
+GRADIENTS = ((0.0, 0.0676, 0.1206, 0.2765), (0.0, 0.0765, 0.3882, 0.5941), (0.0, 0.0676, 0.8824, 1.0))
+CLOUD_BASE_COLOR = (0.78, 0.86, 1.0)
+CLOUD_TOP_COLOR = (1.0, 1.0, 1.0)
+SUN_HIGH_COLOR = (1.0, 0.99, 0.82)
+SUN_LOW_COLOR = (1.0, 0.31, 0.0)
+SKY_ZENITH = (0.24, 0.45, 0.85)
+SKY_HORIZON = (0.70, 0.80, 0.95)
+GROUND_ALBEDO = (0.20, 0.21, 0.17)
+
+
+@dataclass(frozen=True)
+class Param:
+    name: str
+    default: float
+    lo: float
+    hi: float
+    text: str
+    integer: bool = False
+    choices: tuple = ()
+
+
+# Every parameter of the seed's demo UI (its prefab's values as defaults), and ours after them.
+PARAMS: tuple[Param, ...] = (
+    Param("coverage", 1.05, 0.0, 2.0, "weather coverage (0 clear .. 2 overcast)"),
+    Param("density", 1.0, 0.0, 2.0, "optical density: extinction multiplier"),
+    Param("shape_scale", 0.3, 0.0, 1.0, "shape noise frequency"),
+    Param("detail_scale", 13.9, 0.0, 50.0, "detail noise frequency, relative to the shape's"),
+    Param("shape_min", 0.47, 0.0, 1.0, "shape modifier: the shape noise's low end, remapped to 0"),
+    Param("shape_max", 0.8, 0.0, 1.0, "shape modifier: the shape noise's high end, remapped to 1"),
+    Param("detail_modifier", 0.4, 0.0, 1.0, "how far the detail noise erodes the edges"),
+    Param("curl_scale", 2.9, 0.0, 20.0, "curl noise frequency, relative to the shape's"),
+    Param("curl_amount", 231.0, 0.0, 1000.0, "curl distortion at the layer's top, metres (+150)"),
+    Param("weather_scale", 0.1, 0.01, 1.0, "weather map frequency"),
+    Param("high_coverage", 1.24, 0.0, 2.0, "high (cirrus) cloud coverage"),
+    Param("high_coverage_scale", 0.18, 0.01, 2.0, "high cloud coverage frequency"),
+    Param("high_scale", 0.028, 0.001, 1.0, "high cloud texture frequency"),
+    Param("ambient", 0.3, 0.0, 1.0, "ambient light factor"),
+    Param("direct", 1.0, 0.0, 1.5, "sun light factor"),
+    Param("hg_forward", 0.54, 0.0, 0.99, "Henyey-Greenstein forward lobe g"),
+    Param("hg_back", 0.5, 0.0, 0.99, "Henyey-Greenstein back lobe g (used as -g)"),
+    Param("light_step", 48.0, 1.0, 200.0, "light march step length, metres"),
+    Param("cone_radius", 0.4, 0.0, 2.0, "light cone radius, in light steps"),
+    Param("wind_speed", 15.9, 0.0, 200.0, "low cloud (noise) wind speed, m/s"),
+    Param("wind_dir", -22.4, -360.0, 360.0, "low cloud wind direction, degrees"),
+    Param("weather_wind_speed", 25.0, 0.0, 200.0, "weather map wind speed, m/s"),
+    Param("weather_wind_dir", 5.0, -360.0, 360.0, "weather map wind direction, degrees"),
+    Param("high_wind_speed", 49.2, 0.0, 400.0, "high cloud wind speed, m/s"),
+    Param("high_wind_dir", 77.8, -360.0, 360.0, "high cloud wind direction, degrees"),
+    Param("time_scale", 1.0, -25.0, 25.0, "wind time multiplier"),
+    Param("weather_blend", 30.0, 0.0, 60.0, "seconds a new weather takes to blend in"),
+    Param("shape_noise", 1, 0, 1, "sample the shape noise (0: a constant 0.7, the seed's debug toggle)", True),
+    Param("detail_noise", 1, 0, 1, "erode with the detail noise", True),
+    Param("curl_noise", 1, 0, 1, "distort the detail with curl noise", True),
+    Param("light_samples", 6, 6, 30, "light march samples: 6 (5 cone + 1 far) or 30 (clouds shadow each other)",
+          True, (6, 30)),
+    Param("multiscatter", 1, 0, 1, "multiple scattering by octaves (0: the seed's double Beer)", True),
+    Param("ground_shadows", 1, 0, 1, "cloud shadows on the ground", True),
+)
+PARAM = {p.name: p for p in PARAMS}
+
+
+class ParamError(ValueError):
+    pass
+
+
+@dataclass(frozen=True)
+class CloudParams:
+    coverage: float = PARAM["coverage"].default
+    density: float = PARAM["density"].default
+    shape_scale: float = PARAM["shape_scale"].default
+    detail_scale: float = PARAM["detail_scale"].default
+    shape_min: float = PARAM["shape_min"].default
+    shape_max: float = PARAM["shape_max"].default
+    detail_modifier: float = PARAM["detail_modifier"].default
+    curl_scale: float = PARAM["curl_scale"].default
+    curl_amount: float = PARAM["curl_amount"].default
+    weather_scale: float = PARAM["weather_scale"].default
+    high_coverage: float = PARAM["high_coverage"].default
+    high_coverage_scale: float = PARAM["high_coverage_scale"].default
+    high_scale: float = PARAM["high_scale"].default
+    ambient: float = PARAM["ambient"].default
+    direct: float = PARAM["direct"].default
+    hg_forward: float = PARAM["hg_forward"].default
+    hg_back: float = PARAM["hg_back"].default
+    light_step: float = PARAM["light_step"].default
+    cone_radius: float = PARAM["cone_radius"].default
+    wind_speed: float = PARAM["wind_speed"].default
+    wind_dir: float = PARAM["wind_dir"].default
+    weather_wind_speed: float = PARAM["weather_wind_speed"].default
+    weather_wind_dir: float = PARAM["weather_wind_dir"].default
+    high_wind_speed: float = PARAM["high_wind_speed"].default
+    high_wind_dir: float = PARAM["high_wind_dir"].default
+    time_scale: float = PARAM["time_scale"].default
+    weather_blend: float = PARAM["weather_blend"].default
+    shape_noise: int = 1
+    detail_noise: int = 1
+    curl_noise: int = 1
+    light_samples: int = 6
+    multiscatter: int = 1
+    ground_shadows: int = 1
+
+    def with_value(self, name: str, value: float) -> "CloudParams":
+        """A copy with `name` set, or ParamError saying what is allowed (nothing changes)."""
+        p = PARAM.get(name)
+        if p is None:
+            raise ParamError(f"no cloud parameter {name!r} (clouds.list shows them)")
+        if not math.isfinite(value):
+            raise ParamError(f"{name} must be a finite number")
+        if p.integer:
+            if value != int(value):
+                raise ParamError(f"{name} must be a whole number, got {value:g}")
+            value = int(value)
+            if p.choices and value not in p.choices:
+                raise ParamError(f"{name} must be one of {', '.join(map(str, p.choices))}, got {value}")
+        if not p.lo <= value <= p.hi:
+            raise ParamError(f"{name} must be within {p.lo:g}..{p.hi:g}, got {value:g}")
+        if name == "shape_min" and value >= self.shape_max or name == "shape_max" and value <= self.shape_min:
+            raise ParamError("shape_min must stay below shape_max")
+        return replace(self, **{name: value})
+
+    def values(self) -> dict[str, float]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class CloudView:
+    """The camera: altitude above the ground and look direction (degrees; yaw 0 looks along +z, pitch 90
+    straight up), and the sun's azimuth and elevation (degrees)."""
+    altitude: float = 200.0
+    yaw: float = 0.0
+    pitch: float = 12.0
+    sun_azimuth: float = 30.0
+    sun_elevation: float = 25.0
+
+
+def clamp_altitude(metres: float) -> float:
+    return min(max(metres, 1.0), MAX_ALTITUDE)
+
+
+def direction(yaw_deg: float, pitch_deg: float) -> tuple[float, float, float]:
+    yaw, pitch = math.radians(yaw_deg), math.radians(pitch_deg)
+    return (math.sin(yaw) * math.cos(pitch), math.sin(pitch), math.cos(yaw) * math.cos(pitch))
+
+
+def camera_basis(view: CloudView) -> tuple[tuple, tuple, tuple]:
+    """(forward, right, up): right depends on the yaw only, so looking straight up or down is defined."""
+    f = direction(view.yaw, view.pitch)
+    yaw = math.radians(view.yaw)
+    r = (-math.cos(yaw), 0.0, math.sin(yaw))
+    u = (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
+    return f, r, u
+
+
+def sun_at_hour(hour: float) -> tuple[float, float]:
+    """(azimuth, elevation) of the time-of-day slider: sunrise at 6 in the east (azimuth 90), noon 65 degrees
+    high in the south (180), sunset at 18 in the west, below the horizon at night."""
+    angle = math.pi * (hour - 6.0) / 12.0
+    return (90.0 + 180.0 * (hour - 6.0) / 12.0) % 360.0, 65.0 * math.sin(angle)
+
+
+def _lerp3(a, b, t: float) -> tuple[float, float, float]:
+    return tuple(x + (y - x) * t for x, y in zip(a, b))
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Everything both renderers need for one frame, in world units; the shader's uniforms by these names."""
+    camera: tuple
+    forward: tuple
+    right: tuple
+    up: tuple
+    tan_half_fov: float
+    sun_dir: tuple
+    sun_light: tuple          # sun colour x direct factor x the sun's height fade
+    ambient_base: tuple       # cloud base colour x ambient factor x fade
+    ambient_top: tuple
+    sky_zenith: tuple
+    sky_horizon: tuple
+    g_forward: float
+    g_back: float             # negative: the back lobe
+    extinction: float         # sigma_t per metre per unit cloud sample
+    shape_freq: float         # texture repeats per metre
+    detail_freq: float
+    curl_freq: float
+    curl_amount: float
+    weather_freq: float
+    high_coverage_freq: float
+    high_freq: float
+    coverage_shift: float     # subtracted from the weather's R (the seed's 1 - coverage)
+    high_coverage_shift: float
+    shape_min: float
+    shape_max: float
+    detail_modifier: float
+    wind_dir: tuple           # unit xz with the seed's -0.25 y: the noise drifts up as it moves
+    wind_offset: tuple
+    weather_offset: tuple
+    high_offset: tuple
+    light_step: float
+    cone_radius: float
+    light_samples: int
+    shape_noise: int
+    detail_noise: int
+    curl_noise: int
+    multiscatter: int
+    ground_shadows: int
+    blend: float              # weight of the new weather map, 0..1
+
+
+def _wind(speed: float, deg: float) -> tuple[float, float]:
+    a = math.radians(deg)
+    return speed * math.cos(a), speed * math.sin(a)
+
+
+def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: float = 1.0) -> Frame:
+    """The frame's constants from the model: `wind_time` is the scaled clock (seconds x time_scale, summed),
+    `blend` the new weather's weight."""
+    f, r, u = camera_basis(view)
+    sun = direction(view.sun_azimuth, view.sun_elevation)
+    # The seed fades the sun and the ambient over its last 30 degrees above the horizon, reddens the sun as
+    # it sinks and weakens the back lobe with it.
+    fade = min(max(view.sun_elevation / 30.0, 0.0), 1.0)
+    sun_color = _lerp3(SUN_LOW_COLOR, SUN_HIGH_COLOR, fade * fade)
+    ambient = max(0.02, params.ambient * fade)
+    noise = 0.00001 + params.shape_scale * 0.0004
+    weather = params.weather_scale * 0.00025
+    wx, wz = _wind(params.wind_speed, params.wind_dir)
+    cx, cz = _wind(params.weather_wind_speed, params.weather_wind_dir)
+    hx, hz = _wind(params.high_wind_speed, params.high_wind_dir)
+    a = math.radians(params.wind_dir)
+    sky = max(0.05, fade)
+    return Frame(
+        camera=(0.0, view.altitude, 0.0), forward=f, right=r, up=u,
+        tan_half_fov=math.tan(math.radians(FOV_Y_DEG) / 2), sun_dir=sun,
+        sun_light=tuple(c * params.direct * fade for c in sun_color),
+        ambient_base=tuple(c * ambient for c in CLOUD_BASE_COLOR),
+        ambient_top=tuple(c * ambient for c in CLOUD_TOP_COLOR),
+        sky_zenith=tuple(c * sky for c in SKY_ZENITH),
+        sky_horizon=tuple(c * sky for c in _lerp3(sun_color, SKY_HORIZON, 0.5 + 0.5 * fade)),
+        g_forward=params.hg_forward, g_back=-params.hg_back * fade ** 3,
+        extinction=EXTINCTION * params.density, shape_freq=noise, detail_freq=noise * params.detail_scale,
+        curl_freq=noise * params.curl_scale, curl_amount=150.0 + params.curl_amount, weather_freq=weather,
+        high_coverage_freq=params.high_coverage_scale * params.weather_scale * 0.001,
+        high_freq=params.high_scale * 0.002, coverage_shift=1.0 - params.coverage,
+        high_coverage_shift=1.0 - params.high_coverage, shape_min=params.shape_min, shape_max=params.shape_max,
+        detail_modifier=params.detail_modifier,
+        wind_dir=(math.cos(a), -0.25, math.sin(a)),
+        wind_offset=(wx * wind_time, -0.25 * params.wind_speed * wind_time, wz * wind_time),
+        # the seed starts the weather map at its middle and the high clouds at (1500, -900)
+        weather_offset=(0.5 / weather + cx * wind_time, 0.5 / weather + cz * wind_time),
+        high_offset=(1500.0 + hx * wind_time, -900.0 + hz * wind_time),
+        light_step=params.light_step, cone_radius=params.cone_radius, light_samples=params.light_samples,
+        shape_noise=params.shape_noise, detail_noise=params.detail_noise, curl_noise=params.curl_noise,
+        multiscatter=params.multiscatter, ground_shadows=params.ground_shadows, blend=blend)
+
+
+@dataclass(frozen=True)
+class CloudTextures:
+    """The arrays both renderers sample (docs/clouds.md, "Textures and sampling"), all float32:
+    shape (n, n, n), detail (m, m, m), curl (k, k, 2), cirrus (q, q), weather_old and weather_new (w, w, 3)."""
+    shape: "np.ndarray"
+    detail: "np.ndarray"
+    curl: "np.ndarray"
+    cirrus: "np.ndarray"
+    weather_old: "np.ndarray"
+    weather_new: "np.ndarray"
