@@ -25,6 +25,11 @@ class WorkspaceRendererBase:
         """Work put off while the user interacted; True if a redraw is due."""
         return False
 
+    def settling(self) -> bool:
+        """Whether another frame of the unchanged scene would still improve the image (a temporal history
+        filling): the host then draws again at once."""
+        return False
+
     def frame_took(self, ms: float, interactive: bool) -> None:
         """The host's measure of the frame just drawn (a renderer that adapts its quality learns from it)."""
 

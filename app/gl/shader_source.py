@@ -16,6 +16,8 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from app.io.cache import cache_root
+
 
 class ShaderError(Exception):
     """A shader problem located (when possible) at a source file and line."""
@@ -54,10 +56,7 @@ def stage_from_path(path: Path) -> Stage:
 
 def default_cache_dir() -> Path:
     """Where preprocessed (.prs) files go; never beside the (possibly read-only) sources."""
-    if explicit := os.environ.get("SHADELAB_CACHE_DIR"):
-        return Path(explicit) / "shaders"
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "shadelab" / "shaders"
+    return cache_root() / "shaders"
 
 
 # --------------------------------------------------------------------------- .prg

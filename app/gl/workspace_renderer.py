@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import moderngl
 
+from app.gl.clouds_workspace import CloudsWorkspaceRenderer
 from app.gl.lighting2d_workspace import Lighting2DWorkspaceRenderer
 from app.gl.renderer_base import WorkspaceRendererBase
 from app.gl.shaders import ShaderLibrary
@@ -14,6 +15,7 @@ from app.resources import SHADERS
 RENDERERS: dict[str, type[WorkspaceRendererBase]] = {
     "lighting2d": Lighting2DWorkspaceRenderer,
     "volume": VolumeWorkspaceRenderer,
+    "clouds": CloudsWorkspaceRenderer,
     "snowflake": SnowflakeWorkspaceRenderer,
 }
 EMPTY_BACKGROUND = (0.16, 0.16, 0.18, 1.0)
@@ -46,6 +48,10 @@ class WorkspaceRenderer:
         """The host's measure of the frame just drawn, for the renderer that drew it."""
         if self._last is not None:
             self._last.frame_took(ms, interactive)
+
+    def settling(self) -> bool:
+        """The last frame's renderer would still improve an unchanged scene with another frame."""
+        return self._last is not None and self._last.settling()
 
     def idle(self) -> bool:
         """Work any renderer put off while the user interacted; True if a redraw is due."""

@@ -97,6 +97,23 @@ class ParamError(ValueError):
     pass
 
 
+def _checked(name: str, value: float) -> float:
+    p = PARAM.get(name)
+    if p is None:
+        raise ParamError(f"no cloud parameter {name!r} (clouds.list shows them)")
+    if not math.isfinite(value):
+        raise ParamError(f"{name} must be a finite number")
+    if p.integer:
+        if value != int(value):
+            raise ParamError(f"{name} must be a whole number, got {value:g}")
+        value = int(value)
+        if p.choices and value not in p.choices:
+            raise ParamError(f"{name} must be one of {', '.join(map(str, p.choices))}, got {value}")
+    if not p.lo <= value <= p.hi:
+        raise ParamError(f"{name} must be within {p.lo:g}..{p.hi:g}, got {value:g}")
+    return value
+
+
 @dataclass(frozen=True)
 class CloudParams:
     coverage: float = PARAM["coverage"].default
@@ -135,22 +152,15 @@ class CloudParams:
 
     def with_value(self, name: str, value: float) -> "CloudParams":
         """A copy with `name` set, or ParamError saying what is allowed (nothing changes)."""
-        p = PARAM.get(name)
-        if p is None:
-            raise ParamError(f"no cloud parameter {name!r} (clouds.list shows them)")
-        if not math.isfinite(value):
-            raise ParamError(f"{name} must be a finite number")
-        if p.integer:
-            if value != int(value):
-                raise ParamError(f"{name} must be a whole number, got {value:g}")
-            value = int(value)
-            if p.choices and value not in p.choices:
-                raise ParamError(f"{name} must be one of {', '.join(map(str, p.choices))}, got {value}")
-        if not p.lo <= value <= p.hi:
-            raise ParamError(f"{name} must be within {p.lo:g}..{p.hi:g}, got {value:g}")
-        if name == "shape_min" and value >= self.shape_max or name == "shape_max" and value <= self.shape_min:
+        return self.with_values({name: value})
+
+    def with_values(self, values: dict[str, float]) -> "CloudParams":
+        """A copy with every value of `values` set, all checked first, or ParamError."""
+        checked = {name: _checked(name, value) for name, value in values.items()}
+        out = replace(self, **checked)
+        if out.shape_min >= out.shape_max:
             raise ParamError("shape_min must stay below shape_max")
-        return replace(self, **{name: value})
+        return out
 
     def values(self) -> dict[str, float]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -297,3 +307,22 @@ class CloudTextures:
     cirrus: "np.ndarray"
     weather_old: "np.ndarray"
     weather_new: "np.ndarray"
+
+
+INTEGRATIONS = ("energy", "seed")
+
+
+@dataclass(frozen=True)
+class CloudRenderSettings:
+    """The renderer's settings, from the r_cloud* cvars: each optimisation can be switched off."""
+    steps: int = 128              # view-ray steps at the horizon (half straight up)
+    downsample: int = 2           # the cloud buffer is 1/downsample of the output on each axis
+    jitter: bool = True           # blue-noise start offset, a new one each frame
+    taa: bool = True              # blend each frame into a history (neighbourhood-clamped)
+    early_exit: bool = True       # stop once the clouds are 99 % opaque
+    big_steps: bool = True        # 3 steps at once after 10 empty samples, one back on a hit
+    light_skip: bool = True       # the light march only where the density is above 0
+    detail_skip: bool = True      # detail and curl only where the shape is above 0, nothing where coverage is 0
+    reproject: bool = False       # trace one pixel of each 4x4 block a frame, reproject the rest
+    debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
+    integration: str = "energy"   # or "seed"

@@ -1,6 +1,7 @@
 """The model layer's mapping: every workspace, in switcher order, with the class of its state."""
 from __future__ import annotations
 
+from app.model.clouds_workspace import CloudsWorkspace
 from app.model.lighting2d_workspace import Lighting2DWorkspace
 from app.model.snowflake_workspace import SnowflakeWorkspace
 from app.model.volume_workspace import VolumeWorkspace
@@ -9,7 +10,7 @@ from app.model.workspace import WorkspaceInfo
 WORKSPACES: list[WorkspaceInfo] = [
     WorkspaceInfo("lighting2d", "2D lighting", Lighting2DWorkspace),
     WorkspaceInfo("volume", "Volume", VolumeWorkspace),
-    WorkspaceInfo("clouds", "Clouds"),
+    WorkspaceInfo("clouds", "Clouds", CloudsWorkspace),
     WorkspaceInfo("lights3d", "3D lights"),
     WorkspaceInfo("snowflake", "Snowflake", SnowflakeWorkspace),
 ]

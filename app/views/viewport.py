@@ -84,6 +84,8 @@ class Viewport(QOpenGLWidget):
         self.renderer.frame_took(ms, self.interactive)
         if deferred:
             self._idle_timer.start()
+        if self.renderer.settling():  # a temporal history filling: the next frame at once, after events
+            QTimer.singleShot(0, self.update)
         self._refining = False
         self.frames += 1
         self.frame_ms.append(ms)

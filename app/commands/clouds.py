@@ -1,0 +1,217 @@
+"""Cloud verbs: the model's parameters, the camera, the sun, the weather and the clock, and the r_cloud*
+cvars that switch the renderer's optimisations. Names are a contract (docs/clouds.md, "Commands")."""
+from __future__ import annotations
+
+import math
+import shlex
+
+from app.console import files
+from app.console.console import Console
+from app.console.demo import ArgChecks
+from app.console.registry import CommandError, Cvar
+from app.io import clouds_scene
+from app.io.clouds_scene import MAX_SEED, CloudScene, CloudSceneError
+from app.io.weather_image import WeatherError, load_weather
+from app.model.cloud_weather import resample, weather_map
+from app.model.clouds import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
+                              clamp_altitude, sun_at_hour)
+from app.model.clouds_workspace import WEATHER_SIZE, CloudsWorkspace
+from app.model.workspace import SceneFiles
+
+# The cvars of the optimisations, each switching one off (docs/clouds.md, "Optimisations").
+SWITCHES = (
+    ("r_cloudJitter", "jitter", "blue-noise jittered ray start, a new offset each frame"),
+    ("r_cloudTAA", "taa", "temporal anti-aliasing of the cloud buffer"),
+    ("r_cloudEarlyExit", "early_exit", "stop a ray once the clouds are 99 % opaque"),
+    ("r_cloudBigSteps", "big_steps", "triple steps through empty space, one back on a hit"),
+    ("r_cloudLightSkip", "light_skip", "march towards the sun only where the density is above 0"),
+    ("r_cloudDetailSkip", "detail_skip", "detail and curl only inside the shape; nothing where coverage is 0"),
+    ("r_cloudReproject", "reproject", "trace one pixel of each 4x4 block a frame, reproject the rest"),
+    ("r_cloudDebugSamples", "debug_samples", "show texture lookups per pixel, black 0 .. white 1000"),
+)
+
+
+def _finite(what: str, *values: float) -> None:
+    if not all(math.isfinite(v) for v in values):
+        raise CommandError(f"{what} must be finite numbers")
+
+
+def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> None:
+    reg = console.registry.scoped(state.name)
+    history = state.history
+    defaults = CloudRenderSettings()
+    reg.add_cvar(Cvar("r_cloudSteps", int, defaults.steps, "cloud ray steps at the horizon (half straight up)",
+                      min=1, max=1024, archive=True))
+    reg.add_cvar(Cvar("r_cloudDownsample", int, defaults.downsample, "the cloud buffer is 1/N of the view per axis",
+                      min=1, max=4, archive=True))
+    for name, field, text in SWITCHES:
+        reg.add_cvar(Cvar(name, bool, getattr(defaults, field), text, archive=True))
+    reg.add_cvar(Cvar("r_cloudIntegration", str, defaults.integration,
+                      "energy: exp(-sigma dt) per step (converges); seed: the seed's density-as-alpha sum",
+                      choices=INTEGRATIONS, archive=True))
+
+    # ---- files --------------------------------------------------------------------------------------
+
+    def load(path: str) -> None:
+        try:
+            scene = clouds_scene.load(path)
+        except CloudSceneError as exc:
+            raise CommandError(str(exc)) from None
+        history.checkpoint()
+        state.params = scene.params
+        if scene.sun is not None:
+            state.set_sun(*scene.sun)
+        if scene.weather_seed is not None:
+            state.new_weather(weather_map(scene.weather_seed, WEATHER_SIZE), f"new {scene.weather_seed}")
+        console.print(f"loaded clouds from {path}")
+
+    def save(path: str) -> None:
+        source = state.weather_source.split()
+        seed = int(source[1]) if source[0] == "new" else None
+        clouds_scene.save(path, CloudScene(state.params, (state.view.sun_azimuth, state.view.sun_elevation), seed))
+
+    state.files = SceneFiles(load, save, (".json",))
+
+    # ---- parameters ---------------------------------------------------------------------------------
+
+    @checks.add("clouds.set")
+    def checked_params(name: str, value: float) -> CloudParams:
+        try:
+            return state.params.with_value(name, value)
+        except ParamError as exc:
+            raise CommandError(str(exc)) from None
+
+    @reg.command("clouds.set", "name value:float", "Set a cloud parameter (clouds.list names them)",
+                 completer=lambda prefix: [p.name for p in PARAMS if p.name.startswith(prefix)])
+    def clouds_set(name: str, value: float) -> None:
+        params = checked_params(name, value)
+        if params != state.params:
+            history.checkpoint(("clouds.set", name))  # a slider's drag is one step
+            state.params = params
+
+    @reg.command("clouds.list", "", "List the cloud parameters with their values and ranges", recorded=False)
+    def clouds_list() -> None:
+        for p in PARAMS:
+            choices = "|".join(map(str, p.choices)) if p.choices else f"{p.lo:g}..{p.hi:g}"
+            console.print(f"{p.name:<20} {getattr(state.params, p.name):<8g} {choices:<12} {p.text}")
+
+    @reg.command("clouds.reset", "", "Set every cloud parameter back to its default")
+    def clouds_reset() -> None:
+        if state.params != CloudParams():
+            history.checkpoint()
+            state.params = CloudParams()
+
+    # ---- camera and sun -----------------------------------------------------------------------------
+
+    @checks.add("camera.alt")
+    def altitude(metres: float) -> float:
+        _finite("the altitude", metres)
+        if not 1 <= metres <= MAX_ALTITUDE:
+            raise CommandError(f"the altitude must be within 1..{MAX_ALTITUDE:g} m, got {metres:g}")
+        return clamp_altitude(metres)
+
+    @reg.command("camera.alt", "metres:float", f"Put the camera at this altitude (1..{MAX_ALTITUDE:g} m; the "
+                 "layer lies between 1500 and 5500)")
+    def camera_alt(metres: float) -> None:
+        state.set_camera(altitude=altitude(metres))
+
+    @checks.add("camera.look")
+    def look(yaw: float, pitch: float) -> tuple[float, float]:
+        _finite("yaw and pitch", yaw, pitch)
+        if not -90 <= pitch <= 90:
+            raise CommandError(f"the pitch must be within -90..90 degrees, got {pitch:g}")
+        return yaw % 360.0, pitch
+
+    @reg.command("camera.look", "yaw:float pitch:float", "Look towards yaw (degrees, 0 along +z) and pitch "
+                 "(-90 down .. 90 up)")
+    def camera_look(yaw: float, pitch: float) -> None:
+        yaw, pitch = look(yaw, pitch)
+        state.set_camera(yaw=yaw, pitch=pitch)
+
+    @checks.add("sun.dir")
+    def sun(azimuth: float, elevation: float) -> tuple[float, float]:
+        _finite("the sun's azimuth and elevation", azimuth, elevation)
+        if not -90 <= elevation <= 90:
+            raise CommandError(f"the sun's elevation must be within -90..90 degrees, got {elevation:g}")
+        return azimuth % 360.0, elevation
+
+    @reg.command("sun.dir", "azimuth:float elevation:float", "Put the sun at this azimuth and elevation (degrees)")
+    def sun_dir(azimuth: float, elevation: float) -> None:
+        azimuth, elevation = sun(azimuth, elevation)
+        if (azimuth, elevation) != (state.view.sun_azimuth, state.view.sun_elevation):
+            history.checkpoint("sun")
+            state.set_sun(azimuth, elevation)
+
+    @checks.add("sun.time")
+    def hour_of(hour: float) -> float:
+        _finite("the hour", hour)
+        if not 0 <= hour <= 24:
+            raise CommandError(f"the hour must be within 0..24, got {hour:g}")
+        return hour
+
+    @reg.command("sun.time", "hour:float", "Put the sun where it stands at this hour (0..24: rises at 6 in "
+                 "the east, sets at 18 in the west)")
+    def sun_time(hour: float) -> None:
+        sun_dir(*sun_at_hour(hour_of(hour)))
+
+    # ---- weather and time ---------------------------------------------------------------------------
+
+    @checks.add("weather.new")
+    def seed_of(seed: int | None = None) -> int | None:
+        if seed is not None and not 0 <= seed <= MAX_SEED:
+            raise CommandError(f"the seed must be within 0..{MAX_SEED}, got {seed}")
+        return seed
+
+    @reg.command("weather.new", "[seed:int]", "Make a new weather map (the next seed if none is given) and "
+                 "blend to it over weather_blend seconds")
+    def weather_new(seed: int | None = None) -> None:
+        if seed_of(seed) is None:
+            source = state.weather_source.split()
+            seed = (int(source[1]) + 1) % (MAX_SEED + 1) if source[0] == "new" else 1
+        history.checkpoint()
+        state.new_weather(weather_map(seed, WEATHER_SIZE), f"new {seed}")
+        console.print(f"weather {seed}, blending in over {state.params.weather_blend:g} s")
+
+    @reg.command("weather.load", "path", "Blend to a weather map from a PNG (R coverage, G type, B rain)",
+                 completer=lambda prefix: files.complete(prefix, (".png",)))
+    def weather_load(path: str) -> None:
+        try:
+            weather = load_weather(files.readable(console, path))
+        except WeatherError as exc:
+            raise CommandError(str(exc)) from None
+        history.checkpoint()
+        state.new_weather(resample(weather, WEATHER_SIZE), f"load {shlex.quote(path)}")
+        console.print(f"weather from {path}, blending in over {state.params.weather_blend:g} s")
+
+    @reg.command("weather.blend", "[seconds:float]", "Show or set how long a new weather takes to blend in")
+    def weather_blend(seconds: float | None = None) -> None:
+        if seconds is None:
+            console.print(f"weather.blend is {state.params.weather_blend:g} s")
+        else:
+            clouds_set("weather_blend", seconds)
+
+    @checks.add("clouds.time")
+    def times(seconds: float | None = None, wind: float | None = None) -> None:
+        _finite("the times", *(v for v in (seconds, wind) if v is not None))
+        if seconds is not None and seconds < 0:
+            raise CommandError(f"the clock must not be negative, got {seconds:g}")
+
+    @reg.command("clouds.time", "[seconds:float] [wind:float]", "Show or set the clock (the weather blend runs "
+                 "on it) and the wind's time (default: the clock times time_scale)")
+    def clouds_time(seconds: float | None = None, wind: float | None = None) -> None:
+        times(seconds, wind)
+        if seconds is None:
+            console.print(f"clock {state.clock:g} s, wind time {state.wind_time:g} s, "
+                          f"weather blend {state.blend():.0%}")
+            return
+        state.clock = seconds
+        state.wind_time = seconds * state.params.time_scale if wind is None else wind
+
+
+def render_settings(console: Console, state: CloudsWorkspace) -> CloudRenderSettings:
+    cvars = console.registry.cvars
+    return CloudRenderSettings(
+        steps=cvars["r_cloudSteps"].value, downsample=cvars["r_cloudDownsample"].value,
+        integration=cvars["r_cloudIntegration"].value,
+        **{field: bool(cvars[name].value) for name, field, _ in SWITCHES})
+

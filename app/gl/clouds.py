@@ -1,0 +1,223 @@
+"""The clouds on the GPU: the model's textures, the march into a reduced cloud buffer, the temporal passes
+(Guerrilla's 4x4 reprojection, TAA) and the composite over the cirrus, sky and ground at the output's size.
+
+Passes per frame (docs/clouds.md, "Optimisations"):
+1. trace: every pixel of the cloud buffer, or with reprojection one pixel of each 4x4 block (a Bayer order
+   over 16 frames) into a buffer a quarter the size on each axis;
+2. resolve (reprojection only): the traced pixels, the others from the last frame by their direction, or
+   traced now where the last frame has nothing (off its edge, or after anything but a turn changed);
+3. taa: the reprojected history, clamped to this frame's 3x3 neighbourhood, blended with this frame;
+4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground."""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, replace
+
+import moderngl
+import numpy as np
+
+from app.gl.vertex_arrays import VertexArrays
+from app.model import clouds as model
+from app.model.clouds import CloudRenderSettings, Frame
+
+# Guerrilla's order of the 16 pixels of a 4x4 block, one a frame (index = x + 4 y)
+BAYER = (0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5)
+TAA_FRAMES = 16       # the history's weight settles at 1 - 1/16
+GOLDEN = 0.61803398875  # the blue noise's shift per frame: every offset visited evenly over time
+
+
+class Target:
+    """A framebuffer of float textures (nearest for texelFetch-free reads; the first one may filter)."""
+
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], components: tuple[int, ...],
+                 linear: bool = False) -> None:
+        self.size = size
+        self.textures = [ctx.texture(size, c, dtype="f4") for c in components]
+        for i, texture in enumerate(self.textures):
+            f = moderngl.LINEAR if linear and i == 0 else moderngl.NEAREST
+            texture.filter = (f, f)
+            texture.repeat_x = texture.repeat_y = False
+        self.fbo = ctx.framebuffer(self.textures)
+
+
+def buffer_size(size: tuple[int, int], downsample: int) -> tuple[int, int]:
+    return max(1, math.ceil(size[0] / downsample)), max(1, math.ceil(size[1] / downsample))
+
+
+class CloudTexturesGL:
+    """The noise textures (uploaded once) and the two weather maps (uploaded when they change)."""
+
+    def __init__(self, ctx: moderngl.Context, noise) -> None:
+        self.ctx = ctx
+        self.shape = self._volume(noise.shape)
+        self.detail = self._volume(noise.detail)
+        self.curl = self._image(noise.curl)
+        self.cirrus = self._image(noise.cirrus)
+        self.blue = self._image(noise.blue, linear=False)
+        self.weather: list[moderngl.Texture] = []
+        self._weather_key = None
+
+    def _volume(self, a: np.ndarray) -> moderngl.Texture3D:
+        t = self.ctx.texture3d(a.shape[::-1], 1, np.ascontiguousarray(a, dtype="f4").tobytes(), dtype="f4")
+        t.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        t.repeat_x = t.repeat_y = t.repeat_z = True
+        return t
+
+    def _image(self, a: np.ndarray, linear: bool = True) -> moderngl.Texture:
+        components = 1 if a.ndim == 2 else a.shape[2]
+        t = self.ctx.texture((a.shape[1], a.shape[0]), components, np.ascontiguousarray(a, dtype="f4").tobytes(),
+                             dtype="f4")
+        f = moderngl.LINEAR if linear else moderngl.NEAREST
+        t.filter = (f, f)
+        t.repeat_x = t.repeat_y = True
+        return t
+
+    def sync_weather(self, blend) -> int:
+        """Upload the blend's maps if they changed; returns the number of maps uploaded."""
+        if blend.version == self._weather_key:
+            return 0
+        for t in self.weather:
+            t.release()
+        self.weather = [self._image(m) for m in blend.maps]
+        self._weather_key = blend.version
+        return len(self.weather)
+
+    def use(self) -> dict[str, int]:
+        units = {"u_shape": self.shape, "u_detail": self.detail, "u_curl": self.curl, "u_cirrus": self.cirrus,
+                 "u_weather_old": self.weather[0], "u_weather_new": self.weather[1], "u_blue": self.blue}
+        for unit, texture in enumerate(units.values()):
+            texture.use(unit)
+        return {name: unit for unit, name in enumerate(units)}
+
+
+def uniforms(frame: Frame, settings: CloudRenderSettings, aspect: float, frame_index: int) -> dict:
+    values = {f"u_{name}": value for name, value in asdict(frame).items()}
+    values.update(u_aspect=aspect, u_steps=settings.steps, u_seed_integration=int(settings.integration == "seed"),
+                  u_early_exit=int(settings.early_exit), u_big_steps=int(settings.big_steps),
+                  u_light_skip=int(settings.light_skip), u_detail_skip=int(settings.detail_skip),
+                  u_jitter=int(settings.jitter), u_frame_offset=(frame_index * GOLDEN) % 1.0)
+    return values
+
+
+class CloudRenderer:
+    def __init__(self, ctx: moderngl.Context, shaders) -> None:
+        self.ctx, self.shaders = ctx, shaders
+        self.textures: CloudTexturesGL | None = None
+        self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
+        self._targets: dict[str, Target] = {}
+        self.frame_index = 0
+        self._key = None           # what the histories were made with, but the camera's turn
+        self._prev_basis = None    # the last frame's (forward, right, up)
+        self._resolved = None      # the last resolved buffer (reprojection)
+        self._taa = None           # the last TAA output
+        self.taa_frames = 0
+        self.reprojected_frames = 0
+        self.last_lookups: Target | None = None  # the lookups of the last frame's cloud buffer
+
+    # ---- targets ------------------------------------------------------------------------------------
+
+    def _target(self, name: str, size, components, linear=False) -> Target:
+        t = self._targets.get(name)
+        if t is None or t.size != size:
+            if t is not None:
+                t.fbo.release()
+                for texture in t.textures:
+                    texture.release()
+            t = self._targets[name] = Target(self.ctx, size, components, linear)
+        return t
+
+    def _draw(self, program_name: str, target_fbo, values: dict) -> None:
+        program = self.shaders.program(program_name)
+        for name, value in values.items():
+            if name in program:
+                program[name].value = value
+        target_fbo.use()
+        self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
+
+    # ---- a frame ------------------------------------------------------------------------------------
+
+    def render(self, fbo: moderngl.Framebuffer, frame: Frame, weather, settings: CloudRenderSettings, noise,
+               debug: int | None = None) -> None:
+        """Draw one frame of the clouds into `fbo` (`weather`: the WeatherBlend; `noise`: NoiseTextures)."""
+        if self.textures is None:
+            self.textures = CloudTexturesGL(self.ctx, noise)
+        self.textures.sync_weather(weather)
+        size = fbo.size
+        bsize = buffer_size(size, settings.downsample)
+        aspect = size[0] / max(size[1], 1)
+        values = uniforms(frame, settings, aspect, self.frame_index)
+        values.update(self.textures.use())
+        basis = (frame.forward, frame.right, frame.up)
+        key = (replace(frame, forward=None, right=None, up=None, wind_offset=None, weather_offset=None,
+                       high_offset=None, blend=None), replace(settings, debug_samples=False), bsize, weather.version)
+        valid = key == self._key and self._prev_basis is not None
+        turned = valid and basis != self._prev_basis
+        prev = self._prev_basis or basis
+        values.update(u_prev_forward=prev[0], u_prev_right=prev[1], u_prev_up=prev[2], u_buffer=bsize)
+
+        clouds = self._trace(bsize, settings, values, valid, turned)
+        if settings.taa:
+            clouds = self._temporal_aa(bsize, clouds, values, valid)
+        else:
+            self.taa_frames = 0
+        composite = dict(values, u_size=size, u_clouds=7, u_lookups=8,
+                         u_debug=int(settings.debug_samples) if debug is None else debug)
+        clouds.use(7)
+        self.last_lookups.textures[1].use(8)
+        self._draw("clouds_composite", fbo, composite)
+        self._key, self._prev_basis = key, basis
+        self.frame_index += 1
+
+    def _trace(self, bsize, settings, values, valid: bool, turned: bool) -> moderngl.Texture:
+        if not settings.reproject:
+            target = self._target("trace", bsize, (4, 1), linear=True)
+            self._draw("clouds_trace", target.fbo, dict(values, u_stride=1, u_phase=(0, 0)))
+            self.last_lookups = target
+            self._resolved, self.reprojected_frames = None, 0
+            return target.textures[0]
+        phase_index = BAYER[self.frame_index % 16]
+        phase = (phase_index % 4, phase_index // 4)
+        quarter = self._target("fresh", (math.ceil(bsize[0] / 4), math.ceil(bsize[1] / 4)), (4, 1))
+        self._draw("clouds_trace", quarter.fbo, dict(values, u_stride=4, u_phase=phase))
+        history = self._resolved if valid else None
+        out = self._target("resolve_b" if history is self._targets.get("resolve_a") else "resolve_a", bsize, (4, 1),
+                           linear=True)
+        quarter.textures[0].use(9)
+        quarter.textures[1].use(10)
+        if history is not None:
+            history.textures[0].use(11)
+        self._draw("clouds_resolve", out.fbo, dict(values, u_phase=phase, u_fresh=9, u_fresh_lookups=10,
+                                                   u_history=11, u_history_valid=int(history is not None),
+                                                   u_turned=int(turned)))
+        self.reprojected_frames = self.reprojected_frames + 1 if history is not None else 1
+        self._resolved = out
+        self.last_lookups = out
+        return out.textures[0]
+
+    def _temporal_aa(self, bsize, current: moderngl.Texture, values, valid: bool) -> moderngl.Texture:
+        history = self._taa if valid else None
+        out = self._target("taa_b" if history is self._targets.get("taa_a") else "taa_a", bsize, (4,), linear=True)
+        self.taa_frames = self.taa_frames + 1 if history is not None else 1
+        current.use(12)
+        if history is not None:
+            history.textures[0].use(13)
+        self._draw("clouds_taa", out.fbo, dict(values, u_current=12, u_history=13,
+                                               u_history_valid=int(history is not None),
+                                               u_weight=max(1.0 / self.taa_frames, 1.0 / TAA_FRAMES)))
+        self._taa = out
+        return out.textures[0]
+
+    def settling(self, settings: CloudRenderSettings) -> bool:
+        """Whether more frames of an unchanged scene still change the image (the histories fill)."""
+        return (settings.taa and self.taa_frames < TAA_FRAMES) or (settings.reproject and self.reprojected_frames < 16)
+
+    def lookups(self, size: tuple[int, int], frame: Frame, settings: CloudRenderSettings) -> float:
+        """Texture lookups per output pixel of the last frame: the cloud buffer's (shared by the pixels it
+        covers) plus the composite's own (cirrus, ground shadows), read back from float targets."""
+        march = float(np.frombuffer(self.last_lookups.textures[1].read(), dtype="f4").sum())
+        target = self._target("lookups", size, (1,))
+        values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
+        values.update(self.textures.use(), u_size=size, u_clouds=7, u_lookups=8, u_debug=2)
+        self._draw("clouds_composite", target.fbo, values)
+        composite = float(np.frombuffer(target.textures[0].read(), dtype="f4").sum())
+        return (march + composite) / (size[0] * size[1])

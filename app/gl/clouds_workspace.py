@@ -1,0 +1,26 @@
+"""The clouds workspace's renderer: its model's frame through the cloud renderer; it keeps asking for
+frames while its temporal histories fill (TAA, reprojection)."""
+from __future__ import annotations
+
+from app.gl.clouds import CloudRenderer
+from app.gl.renderer_base import WorkspaceRendererBase
+from app.io.cloud_textures import noise_textures
+from app.model.clouds import CloudRenderSettings, frame
+
+
+class CloudsWorkspaceRenderer(WorkspaceRendererBase):
+    def __init__(self, ctx, shaders) -> None:
+        super().__init__(ctx, shaders)
+        self.clouds = CloudRenderer(ctx, shaders)
+        self._settling = False
+
+    def render(self, fbo, state, settings: CloudRenderSettings, interactive: bool = False) -> bool:
+        # The views make the textures first, with a progress bar; a headless host waits for them here.
+        noise = noise_textures()
+        self.clouds.render(fbo, frame(state.params, state.view, state.wind_time, state.blend()), state.weather,
+                           settings, noise)
+        self._settling = self.clouds.settling(settings)
+        return False
+
+    def settling(self) -> bool:
+        return self._settling

@@ -1,0 +1,77 @@
+"""The clouds' noise textures, made once per machine (app.model.cloud_noise, blue_noise) and cached on disk
+(app.io.noise_cache), loaded once per process. Making them takes a few seconds the very first time: the
+editor shows a progress bar, `shadelab render` and `bench` print one; nothing makes them at start-up."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from app.io.cache import cache_root
+from app.io.noise_cache import load_or_build
+from app.model import cloud_noise
+from app.model.blue_noise import blue_noise
+
+Progress = Callable[[str, float], None]  # (texture name, fraction of it done)
+
+
+@dataclass(frozen=True)
+class NoiseTextures:
+    shape: np.ndarray
+    detail: np.ndarray
+    curl: np.ndarray
+    cirrus: np.ndarray
+    blue: np.ndarray
+
+
+# name: (recipe version, shape, builder taking a progress callback or None)
+RECIPES = {
+    "shape": (1, (128, 128, 128), lambda progress: cloud_noise.shape_noise(128, progress=progress)),
+    "detail": (1, (32, 32, 32), lambda progress: cloud_noise.detail_noise(32, progress=progress)),
+    "curl": (1, (128, 128, 2), lambda progress: cloud_noise.curl_noise(128, progress=progress)),
+    "cirrus": (1, (256, 256), lambda progress: cloud_noise.cirrus_noise(256, progress=progress)),
+    "blue": (1, (64, 64), lambda progress: blue_noise(64)),
+}
+_loaded: dict[Path, NoiseTextures] = {}
+
+
+def noise_dir() -> Path:
+    return cache_root() / "noise"
+
+
+def is_loaded(cache_dir: Path | None = None) -> bool:
+    return (cache_dir or noise_dir()) in _loaded
+
+
+def noise_textures(progress: Progress | None = None, cache_dir: Path | None = None) -> NoiseTextures:
+    """The textures, from this process's copy, else the disk cache, else built (reporting `progress`)."""
+    folder = cache_dir or noise_dir()
+    if folder not in _loaded:
+        arrays = {}
+        for name, (version, shape, build) in RECIPES.items():
+            report = None if progress is None else partial(progress, name)
+            arrays[name] = load_or_build(name, partial(build, report), folder, version, shape=shape)
+            if progress is not None:
+                progress(name, 1.0)
+        _loaded[folder] = NoiseTextures(**arrays)
+    return _loaded[folder]
+
+
+def terminal_progress(stream, width: int = 30) -> Progress:
+    """A progress bar on the command line for each texture that has to be made (a cached one says nothing)."""
+    building: set[str] = set()
+
+    def report(name: str, fraction: float) -> None:
+        if fraction >= 1.0 and name not in building:
+            return  # loaded from the cache
+        building.add(name)
+        filled = int(round(width * fraction))
+        stream.write(f"\rmaking the {name} noise texture [{'#' * filled}{' ' * (width - filled)}] {fraction:4.0%}")
+        if fraction >= 1.0:
+            stream.write("\n")
+            building.discard(name)
+        stream.flush()
+    return report
