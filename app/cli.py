@@ -9,6 +9,7 @@ from pathlib import Path
 from shlex import quote as shlex_quote
 
 HEADLESS = ("render", "bench", "exec")
+MAX_SETTLING_FRAMES = 64  # `render` draws a still scene until its renderer's temporal histories are full
 EXEC_USAGE = """usage: shadelab exec [FILE | -c COMMAND]...
 
 Run .cfg, .lua and .demo files and single console commands in the order given, without a window,
@@ -49,10 +50,27 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def terminal_progress(stream, width: int = 30):
+    """A progress bar on the terminal for each thing a renderer has to make (what is cached says nothing)."""
+    building: set[str] = set()
+
+    def report(what: str, fraction: float) -> None:
+        if fraction >= 1.0 and what not in building:
+            return
+        building.add(what)
+        filled = int(round(width * fraction))
+        stream.write(f"\rmaking the {what} texture [{'#' * filled}{' ' * (width - filled)}] {fraction:4.0%}")
+        if fraction >= 1.0:
+            stream.write("\n")
+            building.discard(what)
+        stream.flush()
+    return report
+
+
 def render(args) -> int:
     from app.editor import Editor
     from app.gl.headless import OffscreenTarget, create_context, release_context
-    from app.gl.workspace_renderer import WorkspaceRenderer
+    from app.gl.workspace_renderer import RENDERERS, WorkspaceRenderer
     from app.io.png import write_png
 
     editor = Editor()
@@ -66,11 +84,15 @@ def render(args) -> int:
     if failed:
         print(f"shadelab render: {len(failed)} command(s) failed; no image written", file=sys.stderr)
         return 1
+    RENDERERS[args.workspace].prepare(terminal_progress(sys.stderr))
     ctx = create_context()
     try:
         renderer = WorkspaceRenderer(ctx)
         target = OffscreenTarget(ctx, args.size)
-        renderer.render(target.fbo, editor.current, editor.render_settings())
+        for _ in range(MAX_SETTLING_FRAMES):  # a still scene: let temporal histories fill
+            renderer.render(target.fbo, editor.current, editor.render_settings())
+            if not renderer.settling():
+                break
         write_png(args.out, target.read())
         print(f"wrote {args.out} ({args.size[0]}x{args.size[1]}, {ctx.info['GL_RENDERER']})")
     finally:

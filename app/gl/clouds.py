@@ -17,7 +17,6 @@ import moderngl
 import numpy as np
 
 from app.gl.vertex_arrays import VertexArrays
-from app.model import clouds as model
 from app.model.clouds import CloudRenderSettings, Frame
 
 # Guerrilla's order of the 16 pixels of a 4x4 block, one a frame (index = x + 4 y)

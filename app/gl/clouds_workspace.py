@@ -14,8 +14,12 @@ class CloudsWorkspaceRenderer(WorkspaceRendererBase):
         self.clouds = CloudRenderer(ctx, shaders)
         self._settling = False
 
+    @staticmethod
+    def prepare(progress=None) -> None:
+        noise_textures(progress)
+
     def render(self, fbo, state, settings: CloudRenderSettings, interactive: bool = False) -> bool:
-        # The views make the textures first, with a progress bar; a headless host waits for them here.
+        # Hosts call prepare() first, with a progress bar; one that did not waits for the textures here.
         noise = noise_textures()
         self.clouds.render(fbo, frame(state.params, state.view, state.wind_time, state.blend()), state.weather,
                            settings, noise)

@@ -1,6 +1,8 @@
 """What every workspace's renderer is: made once per GL context, asked for frames, released with it."""
 from __future__ import annotations
 
+from typing import Callable
+
 import moderngl
 
 from app.gl.shaders import ShaderLibrary
@@ -17,6 +19,11 @@ class WorkspaceRendererBase:
 
     def __init__(self, ctx: moderngl.Context, shaders: ShaderLibrary) -> None:
         self.ctx, self.shaders = ctx, shaders
+
+    @staticmethod
+    def prepare(progress: Callable[[str, float], None] | None = None) -> None:
+        """Make what the renderer needs before its first frame, outside any GL context (once per process;
+        the first time on a machine it may take seconds): reports progress(what, fraction done)."""
 
     def render(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool = False) -> bool:
         raise NotImplementedError

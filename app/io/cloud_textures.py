@@ -59,19 +59,3 @@ def noise_textures(progress: Progress | None = None, cache_dir: Path | None = No
         _loaded[folder] = NoiseTextures(**arrays)
     return _loaded[folder]
 
-
-def terminal_progress(stream, width: int = 30) -> Progress:
-    """A progress bar on the command line for each texture that has to be made (a cached one says nothing)."""
-    building: set[str] = set()
-
-    def report(name: str, fraction: float) -> None:
-        if fraction >= 1.0 and name not in building:
-            return  # loaded from the cache
-        building.add(name)
-        filled = int(round(width * fraction))
-        stream.write(f"\rmaking the {name} noise texture [{'#' * filled}{' ' * (width - filled)}] {fraction:4.0%}")
-        if fraction >= 1.0:
-            stream.write("\n")
-            building.discard(name)
-        stream.flush()
-    return report
