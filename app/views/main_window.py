@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QStackedWidget
+from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QProgressDialog, QStackedWidget
 
 from app.console import files
 from app.editor import Editor
+from app.gl.workspace_renderer import RENDERERS
 from app.model.workspaces import WORKSPACES
 from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
@@ -141,12 +142,32 @@ class MainWindow(QMainWindow):
         self.viewport.update()
 
     def _show_workspace(self, name: str) -> None:
+        if name in RENDERERS:
+            self._prepare(name)
         self.workspace_actions[name].setChecked(True)
         self.viewport.tool = self.tools.get(name)
         self.panels.setCurrentWidget(self.workspace_panels.get(name, self.placeholder))
         width = VIEWS[name].dock_width if name in VIEWS else DEFAULT_DOCK_WIDTH
         self.resizeDocks([self.docks["editor"]], [width], Qt.Orientation.Horizontal)
         self.bench.show_workspace(name)
+
+    def _prepare(self, name: str) -> None:
+        """What the workspace's renderer makes once (noise textures): a progress bar if it takes a while."""
+        dialog = QProgressDialog("Preparing the workspace...", "", 0, 1000, self, minimumDuration=300)
+        dialog.setCancelButton(None)
+        dialog.setWindowModality(Qt.WindowModality.WindowModal)
+
+        def progress(what: str, fraction: float) -> None:
+            dialog.setLabelText(f"Making the {what} texture (once: it is cached)")
+            dialog.setValue(int(fraction * 999))
+            QApplication.processEvents()
+        self.viewport.preparing = True  # the dialog processes events: no frame of a workspace half made
+        try:
+            RENDERERS[name].prepare(progress)
+        finally:
+            self.viewport.preparing = False
+            dialog.reset()
+            dialog.deleteLater()
 
     def _gl_ready(self, renderer: str) -> None:
         self.gl_label.setText(renderer)

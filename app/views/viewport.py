@@ -9,7 +9,7 @@ import moderngl
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
-from app.gl.workspace_renderer import WorkspaceRenderer
+from app.gl.workspace_renderer import EMPTY_BACKGROUND, WorkspaceRenderer
 from app.views.keys import key_name
 from app.views.tool import ViewportTool
 
@@ -43,6 +43,7 @@ class Viewport(QOpenGLWidget):
         self._last_frame = 0.0
         self.interactive = False  # the last frame was asked for during an interaction
         self._refining = False    # the next frame is the full-quality one after an interaction
+        self.preparing = False    # the window is making what a renderer needs: draw nothing yet
 
     def initializeGL(self) -> None:
         self.ctx = moderngl.create_context()
@@ -72,6 +73,9 @@ class Viewport(QOpenGLWidget):
         start = time.perf_counter()
         self.interactive = start - self._last_frame < INTERACTIVE_GAP and not self._refining
         fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
+        if self.preparing:
+            fbo.clear(*EMPTY_BACKGROUND)
+            return
         deferred = False
         try:
             deferred = self.renderer.render(fbo, self.editor.current, self.editor.render_settings(), self.interactive)

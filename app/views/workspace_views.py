@@ -8,6 +8,8 @@ from typing import Callable
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QColorDialog, QFrame, QScrollArea, QWidget
 
+from app.views.clouds_panel import CloudsPanel
+from app.views.clouds_tool import CloudsTool
 from app.views.lighting2d_panel import Lighting2DPanel
 from app.views.lighting2d_tool import Lighting2DTool
 from app.views.slice_painter import SlicePainter
@@ -80,5 +82,7 @@ def volume_panel(window, state, tool) -> QWidget:
 VIEWS: dict[str, WorkspaceViews] = {
     "lighting2d": WorkspaceViews(Lighting2DTool, lighting2d_panel, 300),
     "volume": WorkspaceViews(VolumeTool, volume_panel, 520),
+    "clouds": WorkspaceViews(CloudsTool, lambda window, state, tool: Scrolled(CloudsPanel(window.editor, state,
+                                                                                          window.run)), 360),
     "snowflake": WorkspaceViews(SnowflakeTool, lambda window, state, tool: SnowflakePanel(state, window.run)),
 }
