@@ -112,6 +112,7 @@ class CloudRenderer:
         self.taa_frames = 0
         self.reprojected_frames = 0
         self.last_lookups: Target | None = None  # the lookups of the last frame's cloud buffer
+        self.last_clouds: moderngl.Texture | None = None  # the buffer the last composite read
 
     # ---- targets ------------------------------------------------------------------------------------
 
@@ -159,7 +160,8 @@ class CloudRenderer:
             clouds = self._temporal_aa(bsize, clouds, values, valid)
         else:
             self.taa_frames = 0
-        composite = dict(values, u_size=size, u_clouds=7, u_lookups=8,
+        self.last_clouds = clouds
+        composite = dict(values, u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8,
                          u_debug=int(settings.debug_samples) if debug is None else debug)
         clouds.use(7)
         self.last_lookups.textures[1].use(8)
@@ -216,7 +218,7 @@ class CloudRenderer:
         march = float(np.frombuffer(self.last_lookups.textures[1].read(), dtype="f4").sum())
         target = self._target("lookups", size, (1,))
         values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
-        values.update(self.textures.use(), u_size=size, u_clouds=7, u_lookups=8, u_debug=2)
+        values.update(self.textures.use(), u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8, u_debug=2)
         self._draw("clouds_composite", target.fbo, values)
         composite = float(np.frombuffer(target.textures[0].read(), dtype="f4").sum())
         return (march + composite) / (size[0] * size[1])

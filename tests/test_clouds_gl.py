@@ -1,0 +1,170 @@
+"""The clouds on the GPU (EGL, llvmpipe): the failure cases of docs/clouds.md give finite pictures, every
+optimisation saves the work it claims (texture lookups counted by the shader), and the temporal passes
+neither ghost nor leave seams. Small images: the cases, not the speed, are what these test."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from app.gl.workspace_renderer import WorkspaceRenderer
+from app.model.clouds import CloudRenderSettings
+from app.model.clouds_workspace import CloudsWorkspace
+
+SIZE = (64, 36)
+PLAIN = CloudRenderSettings(steps=48, downsample=1, jitter=False, taa=False, reproject=False)
+
+
+@pytest.fixture(scope="module")
+def host(gl):
+    host = WorkspaceRenderer(gl)
+    yield host
+    host.release()
+
+
+def draw(host, state, settings=PLAIN, size=SIZE, frames=1):
+    """(the picture as 0..1 floats, the float cloud buffer the composite read, the cloud renderer)."""
+    ctx = host.ctx
+    target = ctx.texture(size, 4)
+    fbo = ctx.framebuffer([target])
+    try:
+        for _ in range(frames):
+            host.render(fbo, state, settings)
+        ctx.finish()
+        rgb = np.frombuffer(fbo.read(components=3), np.uint8).reshape(size[1], size[0], 3) / 255.0
+        clouds = host.renderers["clouds"].clouds
+        buffer = np.frombuffer(clouds.last_clouds.read(), np.float32).reshape(*clouds.last_clouds.size[::-1], 4)
+        return rgb, buffer.copy(), clouds
+    finally:
+        fbo.release()
+        target.release()
+
+
+def sky(**view) -> CloudsWorkspace:
+    state = CloudsWorkspace()
+    state.set_camera(**view)
+    return state
+
+
+CASES = {
+    "below, looking up a little": dict(),
+    "inside the layer": dict(altitude=3000.0),
+    "above the layer": dict(altitude=12000.0, pitch=-20.0),
+    "above the cirrus": dict(altitude=19000.0, pitch=-45.0),
+    "at the horizon": dict(pitch=0.0),
+    "straight up": dict(pitch=90.0),
+    "straight down from above": dict(altitude=9000.0, pitch=-90.0),
+    "sun below the horizon": dict(sun_elevation=-10.0),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_every_camera_and_sun_gives_a_finite_picture(host, case):
+    rgb, buffer, _ = draw(host, sky(**CASES[case]))
+    assert np.isfinite(buffer).all()
+    assert (buffer[..., 3] >= 0).all() and (buffer[..., 3] <= 1 + 1e-6).all()
+    assert rgb.std() > 0.002, "a flat picture: nothing drawn"
+
+
+@pytest.mark.parametrize("steps", [1, 1024])
+def test_one_step_and_1024_steps_are_finite(host, steps):
+    _, buffer, _ = draw(host, sky(altitude=3000.0), replace(PLAIN, steps=steps), size=(16, 9))
+    assert np.isfinite(buffer).all()
+
+
+def test_coverage_zero_leaves_a_clear_sky_and_two_an_overcast_one(host):
+    clear = sky(pitch=30.0)
+    clear.params = clear.params.with_value("coverage", 0.0)
+    _, buffer, _ = draw(host, clear)
+    assert buffer[..., 3].max() == 0.0
+    overcast = sky(pitch=30.0)
+    overcast.params = overcast.params.with_values({"coverage": 2.0, "high_coverage": 0.0})
+    _, buffer, _ = draw(host, overcast)
+    assert np.isfinite(buffer).all() and buffer[..., 3].mean() > 0.5
+
+
+def lookups(host, state, settings, frames=1, size=SIZE):
+    rgb, _, clouds = draw(host, state, settings, size, frames)
+    return clouds.lookups(size, _frame(state), settings)
+
+
+def _frame(state):
+    from app.model.clouds import frame
+    return frame(state.params, state.view, state.wind_time, state.blend())
+
+
+NO_OPTIMISATION = replace(PLAIN, early_exit=False, big_steps=False, light_skip=False, detail_skip=False)
+
+
+@pytest.mark.parametrize("switch", ["early_exit", "big_steps", "light_skip", "detail_skip"])
+def test_each_optimisation_saves_texture_lookups(host, switch):
+    state = sky(pitch=20.0)
+    without = lookups(host, state, NO_OPTIMISATION)
+    with_it = lookups(host, state, replace(NO_OPTIMISATION, **{switch: True}))
+    assert with_it < 0.95 * without
+
+
+def test_the_reduced_buffer_traces_a_quarter_of_the_rays(host):
+    state = sky(pitch=20.0)
+    full = lookups(host, state, PLAIN)
+    half = lookups(host, state, replace(PLAIN, downsample=2))
+    assert 0.15 * full < half < 0.4 * full
+
+
+def test_reprojection_traces_one_pixel_in_sixteen_once_the_history_is_full(host):
+    state = sky(pitch=20.0)
+    settings = replace(PLAIN, reproject=True)
+    first = lookups(host, state, settings)  # no history: every pixel traced
+    later = lookups(host, state, settings, frames=3)
+    assert later < first / 8
+
+
+def test_a_still_camera_with_reprojection_converges_to_the_full_trace(host):
+    state = sky(pitch=20.0)
+    reference, _, _ = draw(host, state, PLAIN)
+    reprojected, _, _ = draw(host, state, replace(PLAIN, reproject=True), frames=17)
+    assert np.abs(reprojected - reference).max() <= 1.5 / 255
+
+
+def test_a_fast_turn_with_reprojection_leaves_no_ghost_trail(host):
+    """Four frames turning 6 degrees each: what is shown matches a fresh trace of the last view."""
+    state = sky(pitch=20.0)
+    settings = replace(PLAIN, reproject=True)
+    draw(host, state, settings, frames=17)
+    for _ in range(4):
+        state.set_camera(yaw=state.view.yaw + 6.0)
+        shown, buffer, _ = draw(host, state, settings)
+    assert np.isfinite(buffer).all()
+    truth, _, _ = draw(host, state, PLAIN)
+    ghost = np.abs(shown - truth).mean(axis=2)
+    assert ghost.mean() <= 2 / 255 and np.percentile(ghost, 99) <= 8 / 255
+
+
+def test_no_seam_where_the_reduced_buffer_meets_the_full_size_picture(host):
+    """At the horizon the half-size cloud buffer meets the full-size ground: row by row it agrees with
+    the full-size picture (a seam would show as a row far off)."""
+    state = sky(pitch=2.0)
+    full, _, _ = draw(host, state, PLAIN, size=(96, 54))
+    half, _, _ = draw(host, state, replace(PLAIN, downsample=2), size=(96, 54))
+    rows = np.abs(full.mean(axis=1) - half.mean(axis=1)).max(axis=1)
+    assert rows.max() <= 8 / 255
+
+
+def test_a_weather_interrupted_mid_blend_does_not_jump(host):
+    state = sky(pitch=25.0)
+    state.params = state.params.with_value("weather_blend", 20.0)
+    from app.model.cloud_weather import weather_map
+    state.new_weather(weather_map(3, 256), "new 3")
+    state.advance(8.0)
+    before, _, _ = draw(host, state)
+    state.new_weather(weather_map(4, 256), "new 4")
+    after, _, _ = draw(host, state)
+    assert np.abs(after - before).max() <= 1.5 / 255
+
+
+def test_the_sample_count_view_is_grey_by_lookups(host):
+    state = sky(pitch=20.0)
+    rgb, _, _ = draw(host, state, replace(PLAIN, debug_samples=True))
+    assert np.allclose(rgb[..., 0], rgb[..., 1]) and np.allclose(rgb[..., 1], rgb[..., 2])
+    assert rgb.max() > 0.02
