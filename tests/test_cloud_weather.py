@@ -2,10 +2,13 @@
 blend linear and without jumps; bad files refused with a WeatherError and nothing else."""
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
 from app.model import cloud_noise as cn
+from app.model.cloud_weather import WeatherBlend, weather_map
 
 
 def seam_ratio(a: np.ndarray, axis: int) -> float:
@@ -14,6 +17,53 @@ def seam_ratio(a: np.ndarray, axis: int) -> float:
     seam = np.abs(np.take(a, 0, axis) - np.take(a, n - 1, axis)).mean()
     inner = np.abs(np.diff(a, axis=axis)).mean()
     return float(seam / inner) if inner > 0 else float(seam > 0) * np.inf
+
+
+@pytest.fixture(scope="module")
+def weather64():
+    return weather_map(seed=3, size=64)
+
+
+# Weather maps
+
+
+def test_weather_map_shape_dtype_and_ranges(weather64):
+    assert weather64.shape == (64, 64, 3) and weather64.dtype == np.float32
+    assert weather64.min() >= 0.0 and weather64.max() <= 1.0
+    for channel in range(3):
+        assert weather64[..., channel].std() > 0.01, channel  # none of them flat
+
+
+@pytest.mark.parametrize("channel", [0, 1, 2])
+def test_weather_map_wraps(weather64, channel):
+    for axis in range(2):
+        assert seam_ratio(weather64[..., channel], axis) < 1.5, axis
+
+
+def test_the_seam_ratio_catches_a_map_that_does_not_wrap():
+    half = weather_map(seed=3, size=128)[:64, :64, 0]  # a piece of a tiling map does not tile
+    assert max(seam_ratio(half, axis) for axis in range(2)) > 2
+
+
+def test_weather_map_is_the_same_for_a_seed_and_differs_between_seeds(weather64):
+    assert np.array_equal(weather64, weather_map(seed=3, size=64))
+    other = weather_map(seed=4, size=64)
+    for channel in range(2):  # rain may be 0 in both where a map has no rain cell nearby
+        assert not np.allclose(weather64[..., channel], other[..., channel])
+
+
+def test_weather_map_progress_rises_to_exactly_one():
+    seen: list[float] = []
+    weather_map(seed=0, size=32, progress=seen.append)
+    assert len(seen) >= 3
+    assert all(0 < a <= b for a, b in itertools.pairwise(seen))
+    assert seen[-1] == 1.0
+
+
+@pytest.mark.parametrize("size", [0, 1, 48])
+def test_weather_map_sizes_are_powers_of_two(size):
+    with pytest.raises(ValueError, match="power of two"):
+        weather_map(seed=0, size=size)
 
 
 # The noises it is made of
@@ -55,3 +105,64 @@ def test_stretched_perlin_wraps_with_its_own_period_per_axis():
     for axis in range(2):
         assert seam_ratio(a, axis) < 1.5
     assert np.abs(np.diff(a, axis=0)).mean() > 4 * np.abs(np.diff(a, axis=1)).mean()  # finer across y
+
+
+# The blend
+
+
+def maps(n: int = 4) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(0)
+    return tuple(rng.random((n, n, 3), dtype=np.float32) for _ in range(3))
+
+
+def test_a_new_blend_starts_at_the_old_map_and_rises_linearly_to_the_new():
+    a, b, _ = maps()
+    blend = WeatherBlend(a)
+    assert blend.weight(0.0) == 1.0 and blend.done(0.0)
+    assert np.array_equal(blend.current(5.0), a)
+    version = blend.version
+    blend.begin(b, clock=10.0, duration=4.0)
+    assert blend.version != version
+    old, new = blend.maps
+    assert np.array_equal(old, a) and np.array_equal(new, b)
+    assert [blend.weight(t) for t in (0.0, 10.0, 11.0, 12.0, 13.0, 14.0, 99.0)] == [0, 0, 0.25, 0.5, 0.75, 1, 1]
+    assert not blend.done(13.9) and blend.done(14.0)
+    np.testing.assert_allclose(blend.current(11.0), 0.75 * a + 0.25 * b, rtol=1e-6)
+
+
+def test_interrupting_a_blend_starts_from_what_is_on_screen():
+    a, b, c = maps()
+    blend = WeatherBlend(a)
+    blend.begin(b, clock=0.0, duration=10.0)
+    before = blend.current(3.0)
+    blend.begin(c, clock=3.0, duration=5.0)
+    old, new = blend.maps
+    w = blend.weight(3.0)
+    shown = old * np.float32(1 - w) + new * np.float32(w)  # what the shader's mix draws on the next frame
+    np.testing.assert_allclose(shown, before, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(old, 0.7 * a + 0.3 * b, atol=1e-6)
+    assert np.array_equal(new, c) and blend.weight(5.5) == 0.5
+
+
+def test_a_blend_of_no_duration_is_done_at_once_and_maps_are_copies():
+    a, b, _ = maps()
+    blend = WeatherBlend(a)
+    blend.begin(b, clock=2.0, duration=0.0)
+    assert blend.weight(2.0) == 1.0 and blend.done(2.0)
+    b[:] = 0  # the caller's array, changed after the fact
+    assert not np.array_equal(blend.maps[1], b)
+    with pytest.raises(ValueError):
+        blend.maps[0][0, 0, 0] = 1  # read-only: the version counter is the only way maps change
+
+
+@pytest.mark.parametrize("bad", [np.zeros((4, 4, 4)), np.zeros((4, 5, 3)), np.zeros((8, 8, 3))])
+def test_a_new_map_of_another_shape_is_refused(bad):
+    blend = WeatherBlend(maps()[0])
+    with pytest.raises(ValueError):
+        blend.begin(bad, clock=0.0, duration=1.0)
+
+
+def test_a_negative_duration_is_refused():
+    blend = WeatherBlend(maps()[0])
+    with pytest.raises(ValueError):
+        blend.begin(maps()[1], clock=0.0, duration=-1.0)
