@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from app.model import cloud_noise as cn
+from app.model.blue_noise import blue_noise
 from app.model.cloud_weather import WeatherBlend, weather_map
 
 
@@ -166,3 +167,47 @@ def test_a_negative_duration_is_refused():
     blend = WeatherBlend(maps()[0])
     with pytest.raises(ValueError):
         blend.begin(maps()[1], clock=0.0, duration=-1.0)
+
+
+# Blue noise
+
+
+@pytest.fixture(scope="module")
+def blue64():
+    return blue_noise(64, seed=0)
+
+
+def test_blue_noise_holds_every_rank_once(blue64):
+    assert blue64.shape == (64, 64) and blue64.dtype == np.float32
+    n = blue64.size
+    assert np.array_equal(np.sort(blue64.ravel()), ((np.arange(n) + 0.5) / n).astype(np.float32))
+    assert 0 < blue64.min() and blue64.max() < 1
+
+
+def low_frequency_power(a: np.ndarray) -> float:
+    """Mean power of the radial frequencies 1 .. size/8 cycles per tile."""
+    size = a.shape[0]
+    power = np.abs(np.fft.fft2(a - a.mean())) ** 2
+    f = np.fft.fftfreq(size) * size
+    r = np.hypot(*np.meshgrid(f, f))
+    return float(power[(r > 0) & (r <= size / 8)].mean())
+
+
+def test_blue_noise_has_little_low_frequency_energy(blue64):
+    white = np.random.default_rng(1).permutation(blue64.ravel()).reshape(blue64.shape)
+    assert low_frequency_power(blue64) < 0.01 * low_frequency_power(white)
+
+
+def test_blue_noise_spreads_its_points_evenly_across_the_seam(blue64):
+    """The first 10% of ranks: no two closer than 2 pixels, measured round the torus (a seam would break it)."""
+    ys, xs = np.nonzero(blue64 < 0.1)
+    dy = np.abs(ys[:, None] - ys[None]) % 64
+    dx = np.abs(xs[:, None] - xs[None]) % 64
+    d = np.hypot(np.minimum(dy, 64 - dy), np.minimum(dx, 64 - dx))
+    np.fill_diagonal(d, np.inf)
+    assert d.min() >= 2.0
+
+
+def test_blue_noise_is_the_same_for_a_seed(blue64):
+    assert np.array_equal(blue64, blue_noise(64, seed=0))
+    assert not np.array_equal(blue_noise(16, seed=0), blue_noise(16, seed=1))
