@@ -108,6 +108,26 @@ def test_stretched_perlin_wraps_with_its_own_period_per_axis():
     assert np.abs(np.diff(a, axis=0)).mean() > 4 * np.abs(np.diff(a, axis=1)).mean()  # finer across y
 
 
+# Cirrus
+
+
+def test_cirrus_is_tileable_in_range_and_the_same_for_a_seed():
+    a = cn.cirrus_noise(64, seed=1)
+    assert a.shape == (64, 64) and a.dtype == np.float32
+    assert a.min() == 0.0 and a.max() == 1.0
+    for axis in range(2):
+        assert seam_ratio(a, axis) < 1.5, axis
+    assert np.array_equal(a, cn.cirrus_noise(64, seed=1))
+    assert not np.allclose(a, cn.cirrus_noise(64, seed=2))
+    assert np.abs(np.diff(a, axis=0)).mean() > 2 * np.abs(np.diff(a, axis=1)).mean()  # streaks along x
+
+
+def test_cirrus_progress_rises_to_exactly_one():
+    seen: list[float] = []
+    cn.cirrus_noise(32, progress=seen.append)
+    assert all(0 < a <= b for a, b in itertools.pairwise(seen)) and seen[-1] == 1.0
+
+
 # The blend
 
 

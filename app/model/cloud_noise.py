@@ -1,7 +1,6 @@
 """Tileable noise textures for volumetric clouds (after Guerrilla's Nubis, as the seed jaagupku/volumetric-clouds
-uses them): a 3D shape texture, a 3D detail texture and a 2D curl field, made once and cached
-(app.io.noise_cache); and the tileable Perlin, Worley and simplex noise they and the weather maps are
-made of.
+uses them): a 3D shape texture, a 3D detail texture, a 2D curl field and a 2D cirrus texture, made once and cached
+(app.io.noise_cache); and the tileable Perlin, Worley and simplex noise they and the weather maps are made of.
 
 Every texture wraps: its lattices (Perlin gradients, Worley feature points) are periodic with a whole number of
 cells per tile, so texel 0 follows texel size-1 as smoothly as any two interior neighbours. All frequencies are
@@ -24,6 +23,7 @@ from collections.abc import Sequence
 from typing import Callable
 
 import numpy as np
+from scipy import ndimage
 
 Progress = Callable[[float], None]
 Frequency = int | Sequence[int]  # cells per tile: one for every axis, or one per axis
@@ -39,6 +39,18 @@ SHAPE_WORLEY_FREQUENCIES = (4, 4, 8, 16)  # base frequency of the Worley fBm in 
 DETAIL_WORLEY_FREQUENCIES = (2, 4, 8)  # base frequency of the Worley fBm in R, G, B
 CURL_FREQUENCY = 4  # the curl potential's lowest octave
 CURL_OCTAVES = 3
+# Cirrus: streak lattice periods per axis [y, x] (strands 8 times longer than wide, along x), its octaves and the
+# power that thins its ridges; the bend's frequency, octaves and reach (a share of the tile); the patch mask's
+# frequency, octaves and the fBm values over which it rises from clear to full.
+CIRRUS_STREAK_FREQUENCY = (16, 2)
+CIRRUS_OCTAVES = 3
+CIRRUS_SHARPNESS = 6
+CIRRUS_WARP_FREQUENCY = 2
+CIRRUS_WARP_OCTAVES = 2
+CIRRUS_WARP = 0.1
+CIRRUS_MASK_FREQUENCY = 2
+CIRRUS_MASK_OCTAVES = 2
+CIRRUS_MASK_EDGES = (-0.2, 0.4)
 
 
 class _Steps:
@@ -321,3 +333,31 @@ def curl_noise(size: int = 128, seed: int = 0, progress: Progress | None = None)
         field /= scale
     steps.step()
     return field.astype(np.float32)
+
+
+def cirrus_noise(size: int = 256, seed: int = 0, progress: Progress | None = None) -> np.ndarray:
+    """Wispy high-altitude streaks, (size, size) float32 indexed [y, x], in 0..1 (stretched to exactly that).
+
+    Ridges (1 - min(2 |n|, 1))^CIRRUS_SHARPNESS of a Perlin fBm n whose lattice is 8 times finer across y than
+    along x make long thin strands along x; a low-frequency Perlin displacement bends them, and a patchy Perlin
+    mask thins them out in places. Every part has whole lattice periods and the bend samples with wrapping, so the
+    texture tiles.
+    """
+    _check_size(size)
+    rng = np.random.default_rng(seed)
+    octaves = [min(n, _perlin_octaves(size, max(_per_axis(f, 2)))) for n, f in (
+        (CIRRUS_OCTAVES, CIRRUS_STREAK_FREQUENCY), (CIRRUS_WARP_OCTAVES, CIRRUS_WARP_FREQUENCY),
+        (CIRRUS_MASK_OCTAVES, CIRRUS_MASK_FREQUENCY))]
+    steps = _Steps(progress, octaves[0] + 2 * octaves[1] + octaves[2] + 1)
+    streaks = perlin_fbm(size, CIRRUS_STREAK_FREQUENCY, rng, octaves=CIRRUS_OCTAVES, dim=2, steps=steps)
+    ridges = (1 - np.minimum(np.abs(streaks) * 2, 1)) ** CIRRUS_SHARPNESS
+    # Bend: sample the ridges at (y + dy, x + dx), texels, from a periodic displacement, linear and wrapping.
+    dy, dx = (perlin_fbm(size, CIRRUS_WARP_FREQUENCY, rng, octaves=CIRRUS_WARP_OCTAVES, dim=2, steps=steps)
+              * np.float32(CIRRUS_WARP * size) for _ in range(2))
+    yx = np.indices((size, size), dtype=np.float32)
+    bent = ndimage.map_coordinates(ridges, [yx[0] + dy, yx[1] + dx], order=1, mode="grid-wrap")
+    mask = perlin_fbm(size, CIRRUS_MASK_FREQUENCY, rng, octaves=CIRRUS_MASK_OCTAVES, dim=2, steps=steps)
+    mask = smoothstep(*CIRRUS_MASK_EDGES, mask)  # patches: clear sky where the mask's fBm is low
+    out = _normalise(bent * mask)
+    steps.step()
+    return out
