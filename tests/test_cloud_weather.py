@@ -2,11 +2,16 @@
 blend linear and without jumps; bad files refused with a WeatherError and nothing else."""
 from __future__ import annotations
 
+import io
 import itertools
+import struct
+import zlib
 
 import numpy as np
 import pytest
+from PIL import Image
 
+from app.io.weather_image import WeatherError, load_weather, save_weather
 from app.model import cloud_noise as cn
 from app.model.blue_noise import blue_noise
 from app.model.cloud_weather import WeatherBlend, weather_map
@@ -231,3 +236,106 @@ def test_blue_noise_spreads_its_points_evenly_across_the_seam(blue64):
 def test_blue_noise_is_the_same_for_a_seed(blue64):
     assert np.array_equal(blue64, blue_noise(64, seed=0))
     assert not np.array_equal(blue_noise(16, seed=0), blue_noise(16, seed=1))
+
+
+# Weather PNGs
+
+
+def png_bytes(image: Image.Image) -> bytes:
+    buffer = io.BytesIO()
+    image.save(buffer, "PNG")
+    return buffer.getvalue()
+
+
+def chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+
+def raw_png(width: int, height: int, depth: int, colour: int, pixels: bytes = b"") -> bytes:
+    header = struct.pack(">IIBBBBB", width, height, depth, colour, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(pixels)) + chunk(b"IEND", b"")
+
+
+def test_a_weather_map_survives_a_png_round_trip(tmp_path):
+    a = np.random.default_rng(0).integers(0, 256, (32, 32, 3)).astype(np.float32) / 255
+    path = tmp_path / "w.png"
+    save_weather(path, a)
+    assert np.array_equal(load_weather(path), a)
+    with Image.open(path) as image:
+        assert image.mode == "RGB" and image.size == (32, 32)
+    assert [p.name for p in tmp_path.iterdir()] == ["w.png"]  # no temporary file left
+
+
+def test_an_rgba_png_and_a_16_bit_rgb_png_are_read(tmp_path):
+    rgba = np.random.default_rng(1).integers(0, 256, (16, 16, 4), dtype=np.uint8)
+    (tmp_path / "a.png").write_bytes(png_bytes(Image.fromarray(rgba)))
+    assert np.array_equal(load_weather(tmp_path / "a.png"), rgba[..., :3] / np.float32(255))
+    samples = np.random.default_rng(2).integers(0, 65536, (16, 16, 3)).astype(">u2")
+    rows = b"".join(b"\0" + row.tobytes() for row in samples)
+    (tmp_path / "b.png").write_bytes(raw_png(16, 16, 16, 2, rows))
+    np.testing.assert_allclose(load_weather(tmp_path / "b.png"), samples / 65535, atol=1 / 255 + 1e-6)
+
+
+def test_a_saved_map_is_clamped_and_a_bad_array_refused(tmp_path):
+    save_weather(tmp_path / "w.png", np.full((16, 16, 3), 2.0))
+    assert load_weather(tmp_path / "w.png").min() == 1.0
+    for bad in (np.zeros((16, 16)), np.zeros((16, 32, 3)), np.zeros((8, 8, 3)), np.full((16, 16, 3), np.nan)):
+        with pytest.raises(WeatherError):
+            save_weather(tmp_path / "x.png", bad)
+
+
+def malformed(tmp_path) -> dict[str, object]:
+    good = png_bytes(Image.fromarray(np.zeros((32, 32, 3), np.uint8)))
+    folder = tmp_path / "folder.png"
+    folder.mkdir()
+    return {
+        "truncated": good[:len(good) // 2],
+        "header only": good[:20],
+        "text named .png": b"coverage, type, rain\n0.5, 0.5, 0\n",
+        "empty": b"",
+        "not square": png_bytes(Image.fromarray(np.zeros((16, 32, 3), np.uint8))),
+        "too small": png_bytes(Image.fromarray(np.zeros((8, 8, 3), np.uint8))),
+        "huge header": raw_png(1 << 20, 1 << 20, 8, 2),
+        "huge square under the pixel bound": raw_png(4096, 4096, 8, 2),
+        "greyscale": png_bytes(Image.fromarray(np.zeros((32, 32), np.uint8))),
+        "palette": png_bytes(Image.fromarray(np.zeros((32, 32, 3), np.uint8)).convert("P")),
+        "a JPEG": (lambda b: (Image.new("RGB", (32, 32)).save(b, "JPEG"), b.getvalue())[1])(io.BytesIO()),
+        "pixels missing": raw_png(32, 32, 8, 2, b"\0" * 10),
+        "bad CRC": good[:29] + bytes([good[29] ^ 0xFF]) + good[30:],
+        "missing file": None,
+        "a folder": folder,
+    }
+
+
+@pytest.mark.parametrize("case", ["truncated", "header only", "text named .png", "empty", "not square", "too small",
+                                  "huge header", "huge square under the pixel bound", "greyscale", "palette",
+                                  "a JPEG", "pixels missing", "bad CRC", "missing file", "a folder"])
+def test_malformed_files_give_a_weather_error(tmp_path, case):
+    content = malformed(tmp_path)[case]
+    path = tmp_path / "w.png"
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    elif content is not None:
+        path = content
+    with pytest.raises(WeatherError) as caught:
+        load_weather(path)
+    assert str(caught.value)
+
+
+def test_damaged_pngs_give_a_weather_error_or_a_map_and_nothing_else(tmp_path):
+    good = png_bytes(Image.fromarray(np.random.default_rng(3).integers(0, 256, (16, 16, 3), dtype=np.uint8)))
+    rng = np.random.default_rng(4)
+    path = tmp_path / "w.png"
+    variants = [good[:cut] for cut in range(0, len(good), 7)]
+    for _ in range(150):
+        data = bytearray(good)
+        for at in rng.integers(0, len(good), rng.integers(1, 4)):
+            data[at] = rng.integers(0, 256)
+        variants.append(bytes(data))
+    for data in variants:
+        path.write_bytes(data)
+        try:
+            a = load_weather(path)
+        except WeatherError:
+            continue
+        assert a.shape == (16, 16, 3) and a.dtype == np.float32
