@@ -14,7 +14,7 @@ from PIL import Image
 from app.io.weather_image import WeatherError, load_weather, save_weather
 from app.model import cloud_noise as cn
 from app.model.blue_noise import blue_noise
-from app.model.cloud_weather import WeatherBlend, weather_map
+from app.model.cloud_weather import WeatherBlend, resample, weather_map
 
 
 def seam_ratio(a: np.ndarray, axis: int) -> float:
@@ -70,6 +70,22 @@ def test_weather_map_progress_rises_to_exactly_one():
 def test_weather_map_sizes_are_powers_of_two(size):
     with pytest.raises(ValueError, match="power of two"):
         weather_map(seed=0, size=size)
+
+
+def test_resample_keeps_a_map_averages_blocks_and_stays_tileable(weather64):
+    assert np.array_equal(resample(weather64, 64), weather64)
+    blocks = np.random.default_rng(0).random((4, 4, 3), dtype=np.float32)
+    np.testing.assert_allclose(resample(np.repeat(np.repeat(blocks, 8, 0), 8, 1), 4), blocks, atol=1e-6)
+    small = resample(weather64, 16)
+    np.testing.assert_allclose(small, weather64.reshape(16, 4, 16, 4, 3).mean(axis=(1, 3)), atol=1e-6)
+    for size in (24, 128):  # shrinking by a fraction; growing
+        a = resample(weather64, size)
+        assert a.shape == (size, size, 3) and a.dtype == np.float32
+        assert weather64.min() <= a.min() and a.max() <= weather64.max()
+        for channel, axis in itertools.product(range(3), range(2)):
+            assert seam_ratio(a[..., channel], axis) < 1.5, (size, channel, axis)
+    with pytest.raises(ValueError):
+        resample(np.zeros((16, 8, 3)), 16)
 
 
 # The noises it is made of

@@ -81,6 +81,35 @@ def weather_map(seed: int, size: int = 256, progress: Progress | None = None) ->
     return np.stack([coverage, kind, rain], axis=-1).astype(np.float32)
 
 
+def _resample_axis(a: np.ndarray, size: int, axis: int) -> np.ndarray:
+    n = a.shape[axis]
+    k = max(1, round(n / size))  # the box filter's width, old texels: one new texel's footprint when shrinking
+    # Each new texel centre in old texels (GL's texel coordinate); a box of even width is centred half a texel
+    # before the index it is stored at.
+    c = (np.arange(size) + 0.5) * n / size - 0.5 + 0.5 * (1 - k % 2)
+    i0 = np.floor(c).astype(np.int64)
+    shape = [1] * a.ndim
+    shape[axis] = size
+    w = (c - i0).astype(np.float32).reshape(shape)
+
+    def box(i: np.ndarray) -> np.ndarray:  # the mean of k texels, wrapping, at the indices i only
+        return sum(np.take(a, (i - k // 2 + m) % n, axis=axis) for m in range(k)) / np.float32(k)
+
+    return box(i0) * (1 - w) + box(i0 + 1) * w
+
+
+def resample(weather: np.ndarray, size: int) -> np.ndarray:
+    """A weather map (n, n, 3) at (size, size, 3) float32, as GL_REPEAT would show it: read linearly between texel
+    centres with wrapping, after a box filter over one new texel's footprint when it shrinks (so a 2048 map made
+    256 is the mean of each 8 x 8 block). A tileable map stays tileable; the values stay within the old ones'."""
+    a = np.asarray(weather, dtype=np.float32)
+    if a.ndim != 3 or a.shape[0] != a.shape[1] or a.shape[2] != 3 or size < 1:
+        raise ValueError(f"a weather map is (n, n, 3) and a size at least 1, not {a.shape} and {size}")
+    if a.shape[0] == size:
+        return a.copy()
+    return _resample_axis(_resample_axis(a, size, 0), size, 1).astype(np.float32)
+
+
 class WeatherBlend:
     """The old and the new weather map and the new one's weight in time, rising linearly from 0 to 1 over the
     blend; the renderer draws mix(old, new, weight(clock)). Maps are read-only float32 copies of one shape."""
