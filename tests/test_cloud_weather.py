@@ -197,6 +197,19 @@ def test_a_blend_of_no_duration_is_done_at_once_and_maps_are_copies():
         blend.maps[0][0, 0, 0] = 1  # read-only: the version counter is the only way maps change
 
 
+def test_restoring_a_snapshot_brings_back_the_blend_under_a_new_version():
+    a, b, c = maps()
+    blend = WeatherBlend(a)
+    blend.begin(b, clock=0.0, duration=10.0)
+    state, seen = blend.snapshot(), {blend.version}
+    blend.begin(c, clock=4.0, duration=1.0)
+    seen.add(blend.version)
+    blend.restore(state)
+    assert blend.version not in seen  # a renderer that uploaded any earlier version uploads again
+    assert np.array_equal(blend.maps[0], a)
+    assert np.array_equal(blend.maps[1], b) and blend.weight(4.0) == 0.4
+
+
 @pytest.mark.parametrize("bad", [np.zeros((4, 4, 4)), np.zeros((4, 5, 3)), np.zeros((8, 8, 3))])
 def test_a_new_map_of_another_shape_is_refused(bad):
     blend = WeatherBlend(maps()[0])

@@ -159,6 +159,15 @@ class WeatherBlend:
             return self._old
         return self._old * np.float32(1 - w) + self._new * np.float32(w)
 
+    def snapshot(self) -> tuple:
+        """The maps and the blend's timing, for undo (the maps are read-only: no copies)."""
+        return self._old, self._new, self._start, self._duration
+
+    def restore(self, state: tuple) -> None:
+        """Put back what snapshot() gave, under a new version: a renderer holding any earlier version uploads."""
+        self._old, self._new, self._start, self._duration = state
+        self._version += 1
+
     def begin(self, new_map: np.ndarray, clock: float, duration: float) -> None:
         """Blend to new_map from time clock over duration seconds (0: at once). During a blend the old map
         becomes what is on screen now, so the weather never jumps."""
