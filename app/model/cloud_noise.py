@@ -1,10 +1,12 @@
 """Tileable noise textures for volumetric clouds (after Guerrilla's Nubis, as the seed jaagupku/volumetric-clouds
-uses them): a 3D shape texture, a 3D detail texture and a 2D curl field, made once and cached (app.io.noise_cache).
+uses them): a 3D shape texture, a 3D detail texture, a 2D curl field and a 2D cirrus texture, made once and cached
+(app.io.noise_cache); and the tileable Perlin, Worley and simplex noise they and the weather maps are made of.
 
 Every texture wraps: its lattices (Perlin gradients, Worley feature points) are periodic with a whole number of
 cells per tile, so texel 0 follows texel size-1 as smoothly as any two interior neighbours. All frequencies are
 powers of two in cells per tile, so `size` must be a power of two; a frequency above `size` is clamped to it (one
-cell per texel), which only happens at the small sizes tests use.
+cell per texel), which only happens at the small sizes tests use. Simplex noise, sampled point by point rather
+than by blocks, takes any size and any whole frequency.
 
 How it stays fast in numpy: the texture is viewed as (n, b, n, b, n, b), n cells of b texels per axis. Inside
 a cell the texel's offset along one axis depends on that axis alone, and the lattice data (a gradient, a feature
@@ -17,11 +19,14 @@ Randomness comes from numpy's Generator (default_rng(seed)), drawn in a fixed or
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from typing import Callable
 
 import numpy as np
+from scipy import ndimage
 
 Progress = Callable[[float], None]
+Frequency = int | Sequence[int]  # cells per tile: one for every axis, or one per axis
 
 # Worley fBm: octaves at f, 2f, 4f with these weights (Schneider's Nubis fBm weights, sum 1).
 WORLEY_FBM_WEIGHTS = (0.625, 0.25, 0.125)
@@ -34,6 +39,18 @@ SHAPE_WORLEY_FREQUENCIES = (4, 4, 8, 16)  # base frequency of the Worley fBm in 
 DETAIL_WORLEY_FREQUENCIES = (2, 4, 8)  # base frequency of the Worley fBm in R, G, B
 CURL_FREQUENCY = 4  # the curl potential's lowest octave
 CURL_OCTAVES = 3
+# Cirrus: streak lattice periods per axis [y, x] (strands 8 times longer than wide, along x), its octaves and the
+# power that thins its ridges; the bend's frequency, octaves and reach (a share of the tile); the patch mask's
+# frequency, octaves and the fBm values over which it rises from clear to full.
+CIRRUS_STREAK_FREQUENCY = (16, 2)
+CIRRUS_OCTAVES = 3
+CIRRUS_SHARPNESS = 6
+CIRRUS_WARP_FREQUENCY = 2
+CIRRUS_WARP_OCTAVES = 2
+CIRRUS_WARP = 0.1
+CIRRUS_MASK_FREQUENCY = 2
+CIRRUS_MASK_OCTAVES = 2
+CIRRUS_MASK_EDGES = (-0.2, 0.4)
 
 
 class _Steps:
@@ -76,47 +93,56 @@ def _axis_shape(v: np.ndarray, axis: int, dim: int) -> np.ndarray:
     return v.reshape(shape)
 
 
-def _random_gradients(rng: np.random.Generator, n: int, dim: int) -> np.ndarray:
-    g = rng.standard_normal((n,) * dim + (dim,), dtype=np.float32)
+def _per_axis(frequency: Frequency, dim: int) -> tuple[int, ...]:
+    """A frequency for every axis: one number for all, or one per axis in array-axis order ([y, x] in 2D)."""
+    frequencies = (int(frequency),) * dim if isinstance(frequency, (int, np.integer)) else tuple(map(int, frequency))
+    if len(frequencies) != dim:
+        raise ValueError(f"{dim} frequencies needed, not {frequency}")
+    return frequencies
+
+
+def _random_gradients(rng: np.random.Generator, cells: tuple[int, ...]) -> np.ndarray:
+    dim = len(cells)
+    g = rng.standard_normal(cells + (dim,), dtype=np.float32)
     g /= np.maximum(np.sqrt((g * g).sum(axis=-1, keepdims=True)), np.float32(1e-12))
     return g
 
 
-def perlin(size: int, frequency: int, rng: np.random.Generator, dim: int = 3) -> np.ndarray:
+def perlin(size: int, frequency: Frequency, rng: np.random.Generator, dim: int = 3) -> np.ndarray:
     """Tileable gradient noise, (size,)*dim float32, roughly -1..1 (about +-0.87 at most for unit gradients).
 
-    `frequency` lattice cells per tile, a random unit gradient at each lattice point (periodic), quintic fade,
-    sampled at texel centres.
+    `frequency` lattice cells per tile (or one per axis: periods are per axis, so the lattice may be stretched), a
+    random unit gradient at each lattice point (periodic), quintic fade, sampled at texel centres.
     """
     _check_size(size)
-    n, b = _cells(size, frequency)
-    grads = _random_gradients(rng, n, dim)
-    f = ((np.arange(b, dtype=np.float32) + 0.5) / b).astype(np.float32)
-    fade = f * f * f * (f * (f * 6 - 15) + 10)
-    out = np.zeros((n, b) * dim, dtype=np.float32)
+    cells = [_cells(size, f) for f in _per_axis(frequency, dim)]
+    grads = _random_gradients(rng, tuple(n for n, _ in cells))
+    fs = [((np.arange(b, dtype=np.float32) + 0.5) / b).astype(np.float32) for _, b in cells]
+    fades = [f * f * f * (f * (f * 6 - 15) + 10) for f in fs]
+    out = np.zeros(tuple(x for cell in cells for x in cell), dtype=np.float32)
     term = np.empty_like(out)
     for corner in itertools.product((0, 1), repeat=dim):
         g = np.roll(grads, shift=[-c for c in corner], axis=tuple(range(dim)))  # the gradient at cell + corner
         term.fill(0)
         weight: np.ndarray | float = 1.0
         for k in range(dim):
-            term += _cell_shape(g[..., k], dim) * _axis_shape(f - corner[k], k, dim)  # the dot product, axis k
-            weight = weight * _axis_shape(fade if corner[k] else 1 - fade, k, dim)
+            term += _cell_shape(g[..., k], dim) * _axis_shape(fs[k] - corner[k], k, dim)  # the dot product, axis k
+            weight = weight * _axis_shape(fades[k] if corner[k] else 1 - fades[k], k, dim)
         term *= weight
         out += term
     return out.reshape((size,) * dim)
 
 
-def perlin_fbm(size: int, frequency: int, rng: np.random.Generator, octaves: int | None = None, dim: int = 3,
+def perlin_fbm(size: int, frequency: Frequency, rng: np.random.Generator, octaves: int | None = None, dim: int = 3,
                steps: _Steps | None = None) -> np.ndarray:
-    """Octaves of Perlin noise at frequency, 2x, 4x ... (up to half the size, at least one, or `octaves` of them),
-    amplitude halving, scaled back to about -1..1."""
+    """Octaves of Perlin noise at frequency, 2x, 4x ... (up to half the size on the finest axis, at least one, or
+    `octaves` of them), amplitude halving, scaled back to about -1..1."""
     out = np.zeros((size,) * dim, dtype=np.float32)
     total = 0.0
     amplitude = 1.0
-    f = frequency
-    for _ in range(min(octaves or 32, _perlin_octaves(size, frequency))):
-        octave = perlin(size, f, rng, dim)
+    f = np.array(_per_axis(frequency, dim))
+    for _ in range(min(octaves or 32, _perlin_octaves(size, int(f.max())))):
+        octave = perlin(size, tuple(f), rng, dim)
         octave *= np.float32(amplitude)
         out += octave
         del octave
@@ -129,24 +155,25 @@ def perlin_fbm(size: int, frequency: int, rng: np.random.Generator, octaves: int
     return out
 
 
-def worley(size: int, frequency: int, rng: np.random.Generator) -> np.ndarray:
-    """Tileable 3D Worley (cellular) noise, (size,)^3 float32 in 0..1: the distance from each texel centre to the
+def worley(size: int, frequency: int, rng: np.random.Generator, dim: int = 3) -> np.ndarray:
+    """Tileable Worley (cellular) noise, (size,)*dim float32 in 0..1: the distance from each texel centre to the
     nearest feature point, in cell widths, clipped to 1. One random point per cell of a periodic grid of
-    `frequency`^3 cells; the nearest lies in one of the 27 cells around the texel's own."""
+    `frequency`^dim cells; the nearest lies in one of the 3^dim cells around the texel's own."""
     _check_size(size)
     n, b = _cells(size, frequency)
-    points = rng.random((n, n, n, 3), dtype=np.float32)
+    points = rng.random((n,) * dim + (dim,), dtype=np.float32)
     u = (np.arange(b, dtype=np.float32) + 0.5) / b
-    best = np.full((n, b) * 3, np.inf, dtype=np.float32)
+    best = np.full((n, b) * dim, np.inf, dtype=np.float32)
     d2 = np.empty_like(best)
-    for offset in itertools.product((-1, 0, 1), repeat=3):
-        p = np.roll(points, shift=[-o for o in offset], axis=(0, 1, 2))  # the point of cell + offset
-        parts = [(_axis_shape(u, k, 3) - _cell_shape(p[..., k] + np.float32(offset[k]), 3)) ** 2 for k in range(3)]
-        np.add(parts[0] + parts[1], parts[2], out=d2)
+    for offset in itertools.product((-1, 0, 1), repeat=dim):
+        p = np.roll(points, shift=[-o for o in offset], axis=tuple(range(dim)))  # the point of cell + offset
+        parts = [(_axis_shape(u, k, dim) - _cell_shape(p[..., k] + np.float32(offset[k]), dim)) ** 2
+                 for k in range(dim)]
+        np.add(sum(parts[1:-1], parts[0]), parts[-1], out=d2)  # only the last sum is full size
         np.minimum(best, d2, out=best)
     np.sqrt(best, out=best)
     np.minimum(best, 1.0, out=best)
-    return best.reshape((size,) * 3)
+    return best.reshape((size,) * dim)
 
 
 def worley_fbm(size: int, frequency: int, rng: np.random.Generator, steps: _Steps | None = None) -> np.ndarray:
@@ -163,6 +190,53 @@ def worley_fbm(size: int, frequency: int, rng: np.random.Generator, steps: _Step
     return out
 
 
+# Simplex noise on a periodic plane. 3D simplex noise works on the lattice Z^3 unskewed by M = I - J / 6 (J all
+# ones), where |M n|^2 = n.n - (n.(1, 1, 1))^2 / 4. In skewed coordinates e1 = (1, 0, 1) and e2 = (0, -1, -1) are
+# orthogonal and of unit length under M, so the plane they span holds a square lattice of simplex lattice points
+# (no plane of the 2D simplex lattice does: its lattice is triangular). With (e1, e2, (1, 0, 0)) a basis of Z^3,
+# a lattice point n is n = a e1 + b e2 + c (1, 0, 0) with a = n.z - n.y, b = -n.y, c = n.x + n.y - n.z; drawing its
+# gradient from a table indexed (a mod fx, b mod fy, c mod 8) makes the noise repeat every fx e1 and fy e2.
+_G3 = 1 / 6  # the 3D simplex unskew factor (the samples are placed in skewed coordinates directly)
+_PLANE_E1, _PLANE_E2 = np.array([1.0, 0.0, 1.0]), np.array([0.0, -1.0, -1.0])
+# Halfway between two layers of lattice points (c = 0 and 1): simplex noise is 0 at every lattice point, and a plane
+# through them would show their grid as a grid of zeros.
+_PLANE_ORIGIN = np.array([0.5, 0.0, 0.0])
+_SIMPLEX_LAYERS = 8  # gradient tables along c; one simplex spans at most three consecutive layers
+_SIMPLEX_R2 = 0.5  # the kernel's squared radius: 0.5 keeps the noise continuous (0.6 leaves small steps)
+# One kernel's peak, (0.5 - r^2)^4 r at r^2 = 1/18, scaled to 1; the sums of four rarely pass it (the largest |noise|
+# over 40 seeds at 256^2 is 0.99).
+_SIMPLEX_SCALE = 1 / ((4 / 9) ** 4 * (1 / 18) ** 0.5)
+
+
+def simplex(size: int, frequency: Frequency, rng: np.random.Generator) -> np.ndarray:
+    """Tileable 2D simplex noise, (size, size) float32 indexed [y, x], about -1..1 (any size).
+
+    3D simplex noise (Perlin 2001, in Gustavson's formulation) sampled at texel centres on a plane through its
+    lattice that repeats every `frequency` lattice units (one per axis possible, [y, x]): exact simplex noise, with
+    neither the stretch of a rhombic tile nor the curvature of a torus in 4D. Random unit gradients from rng.
+    """
+    fy, fx = _per_axis(frequency, 2)
+    grads = rng.standard_normal((fx, fy, _SIMPLEX_LAYERS, 3))
+    grads /= np.maximum(np.sqrt((grads * grads).sum(axis=-1, keepdims=True)), 1e-12)
+    u = (np.arange(size) + 0.5) / size
+    s = (_PLANE_ORIGIN + (u * fx)[None, :, None] * _PLANE_E1 + (u * fy)[:, None, None] * _PLANE_E2).reshape(-1, 3)
+    base = np.floor(s)
+    x0 = s - base
+    x0 -= x0.sum(axis=1, keepdims=True) * _G3  # the offset from the simplex's first corner, unskewed
+    # The simplex holding x0: from corner 0, a unit step along x0's largest component, then along all but its least.
+    step1 = np.eye(3)[np.argmax(x0, axis=1)]
+    step2 = 1 - np.eye(3)[np.argmin(x0, axis=1)]
+    out = np.zeros(len(s))
+    for k, step in enumerate((0.0, step1, step2, 1.0)):
+        n = (base + step).astype(np.int64)
+        d = x0 - step + k * _G3
+        t = np.maximum(_SIMPLEX_R2 - (d * d).sum(axis=1), 0)
+        g = grads[(n[:, 2] - n[:, 1]) % fx, -n[:, 1] % fy, (n[:, 0] + n[:, 1] - n[:, 2]) % _SIMPLEX_LAYERS]
+        t *= t
+        out += t * t * (g * d).sum(axis=1)
+    return (out * _SIMPLEX_SCALE).reshape(size, size).astype(np.float32)
+
+
 def _normalise(a: np.ndarray) -> np.ndarray:
     """a stretched in place to exactly 0..1 (a constant array becomes 0)."""
     a -= a.min()
@@ -170,6 +244,12 @@ def _normalise(a: np.ndarray) -> np.ndarray:
     if top > 0:
         a /= top
     return a
+
+
+def smoothstep(edge0: float, edge1: float, x: np.ndarray) -> np.ndarray:
+    """GLSL's smoothstep."""
+    t = np.clip((x - edge0) / (edge1 - edge0), 0, 1)
+    return t * t * (3 - 2 * t)
 
 
 def _perlin_octaves(size: int, frequency: int) -> int:
@@ -253,3 +333,31 @@ def curl_noise(size: int = 128, seed: int = 0, progress: Progress | None = None)
         field /= scale
     steps.step()
     return field.astype(np.float32)
+
+
+def cirrus_noise(size: int = 256, seed: int = 0, progress: Progress | None = None) -> np.ndarray:
+    """Wispy high-altitude streaks, (size, size) float32 indexed [y, x], in 0..1 (stretched to exactly that).
+
+    Ridges (1 - min(2 |n|, 1))^CIRRUS_SHARPNESS of a Perlin fBm n whose lattice is 8 times finer across y than
+    along x make long thin strands along x; a low-frequency Perlin displacement bends them, and a patchy Perlin
+    mask thins them out in places. Every part has whole lattice periods and the bend samples with wrapping, so the
+    texture tiles.
+    """
+    _check_size(size)
+    rng = np.random.default_rng(seed)
+    octaves = [min(n, _perlin_octaves(size, max(_per_axis(f, 2)))) for n, f in (
+        (CIRRUS_OCTAVES, CIRRUS_STREAK_FREQUENCY), (CIRRUS_WARP_OCTAVES, CIRRUS_WARP_FREQUENCY),
+        (CIRRUS_MASK_OCTAVES, CIRRUS_MASK_FREQUENCY))]
+    steps = _Steps(progress, octaves[0] + 2 * octaves[1] + octaves[2] + 1)
+    streaks = perlin_fbm(size, CIRRUS_STREAK_FREQUENCY, rng, octaves=CIRRUS_OCTAVES, dim=2, steps=steps)
+    ridges = (1 - np.minimum(np.abs(streaks) * 2, 1)) ** CIRRUS_SHARPNESS
+    # Bend: sample the ridges at (y + dy, x + dx), texels, from a periodic displacement, linear and wrapping.
+    dy, dx = (perlin_fbm(size, CIRRUS_WARP_FREQUENCY, rng, octaves=CIRRUS_WARP_OCTAVES, dim=2, steps=steps)
+              * np.float32(CIRRUS_WARP * size) for _ in range(2))
+    yx = np.indices((size, size), dtype=np.float32)
+    bent = ndimage.map_coordinates(ridges, [yx[0] + dy, yx[1] + dx], order=1, mode="grid-wrap")
+    mask = perlin_fbm(size, CIRRUS_MASK_FREQUENCY, rng, octaves=CIRRUS_MASK_OCTAVES, dim=2, steps=steps)
+    mask = smoothstep(*CIRRUS_MASK_EDGES, mask)  # patches: clear sky where the mask's fBm is low
+    out = _normalise(bent * mask)
+    steps.step()
+    return out
