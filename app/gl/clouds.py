@@ -4,9 +4,9 @@
 Passes per frame (docs/clouds.md, "Optimisations"):
 1. trace: every pixel of the cloud buffer, or with reprojection one pixel of each 4x4 block (a Bayer order
    over 16 frames) into a buffer a quarter the size on each axis;
-2. resolve (reprojection only): the traced pixels, the others from the last frame by their direction, or
-   traced now where the last frame has nothing (off its edge, or after anything but a turn changed);
-3. taa: the reprojected history, clamped to this frame's 3x3 neighbourhood, blended with this frame;
+2. resolve (reprojection only): the traced pixels, the others from the last frame, or all traced after
+   anything but the clock changed (a turn too: docs/clouds.md says why);
+3. taa: the history, clamped to this frame's 3x3 neighbourhood, blended with this frame;
 4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground."""
 from __future__ import annotations
 
@@ -106,7 +106,6 @@ class CloudRenderer:
         self._targets: dict[str, Target] = {}
         self.frame_index = 0
         self._key = None           # what the histories were made with, but the camera's turn
-        self._prev_basis = None    # the last frame's (forward, right, up)
         self._resolved = None      # the last resolved buffer (reprojection)
         self._taa = None           # the last TAA output
         self.taa_frames = 0
@@ -147,15 +146,14 @@ class CloudRenderer:
         aspect = size[0] / max(size[1], 1)
         values = uniforms(frame, settings, aspect, self.frame_index)
         values.update(self.textures.use())
-        basis = (frame.forward, frame.right, frame.up)
-        key = (replace(frame, forward=None, right=None, up=None, wind_offset=None, weather_offset=None,
-                       high_offset=None, blend=None), replace(settings, debug_samples=False), bsize, weather.version)
-        valid = key == self._key and self._prev_basis is not None
-        turned = valid and basis != self._prev_basis
-        prev = self._prev_basis or basis
-        values.update(u_prev_forward=prev[0], u_prev_right=prev[1], u_prev_up=prev[2], u_buffer=bsize)
+        # The histories hold while only the clock moves (the winds, a weather blend): anything else, a turn
+        # included, restarts them (docs/clouds.md, "Optimisations", says why).
+        key = (replace(frame, wind_offset=None, weather_offset=None, high_offset=None, blend=None),
+               replace(settings, debug_samples=False), bsize, weather.version)
+        valid = key == self._key
+        values.update(u_buffer=bsize)
 
-        clouds = self._trace(bsize, settings, values, valid, turned)
+        clouds = self._trace(bsize, settings, values, valid)
         if settings.taa:
             clouds = self._temporal_aa(bsize, clouds, values, valid)
         else:
@@ -166,10 +164,10 @@ class CloudRenderer:
         clouds.use(7)
         self.last_lookups.textures[1].use(8)
         self._draw("clouds_composite", fbo, composite)
-        self._key, self._prev_basis = key, basis
+        self._key = key
         self.frame_index += 1
 
-    def _trace(self, bsize, settings, values, valid: bool, turned: bool) -> moderngl.Texture:
+    def _trace(self, bsize, settings, values, valid: bool) -> moderngl.Texture:
         if not settings.reproject:
             target = self._target("trace", bsize, (4, 1), linear=True)
             self._draw("clouds_trace", target.fbo, dict(values, u_stride=1, u_phase=(0, 0)))
@@ -188,8 +186,7 @@ class CloudRenderer:
         if history is not None:
             history.textures[0].use(11)
         self._draw("clouds_resolve", out.fbo, dict(values, u_phase=phase, u_fresh=9, u_fresh_lookups=10,
-                                                   u_history=11, u_history_valid=int(history is not None),
-                                                   u_turned=int(turned)))
+                                                   u_history=11, u_history_valid=int(history is not None)))
         self.reprojected_frames = self.reprojected_frames + 1 if history is not None else 1
         self._resolved = out
         self.last_lookups = out
