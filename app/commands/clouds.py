@@ -19,15 +19,17 @@ from app.model.clouds_workspace import WEATHER_SIZE, CloudsWorkspace
 from app.model.workspace import SceneFiles
 
 # The cvars of the optimisations, each switching one off (docs/clouds.md, "Optimisations").
-SWITCHES = (
-    ("r_cloudJitter", "jitter", "blue-noise jittered ray start, a new offset each frame"),
-    ("r_cloudTAA", "taa", "temporal anti-aliasing of the cloud buffer"),
-    ("r_cloudEarlyExit", "early_exit", "stop a ray once the clouds are 99 % opaque"),
-    ("r_cloudBigSteps", "big_steps", "triple steps through empty space, one back on a hit"),
-    ("r_cloudLightSkip", "light_skip", "march towards the sun only where the density is above 0"),
-    ("r_cloudDetailSkip", "detail_skip", "detail and curl only inside the shape; nothing where coverage is 0"),
-    ("r_cloudReproject", "reproject", "trace one pixel of each 4x4 block a frame, reproject the rest"),
-    ("r_cloudDebugSamples", "debug_samples", "show texture lookups per pixel, black 0 .. white 1000"),
+SWITCHES = (  # (cvar, settings field, panel label, help)
+    ("r_cloudJitter", "jitter", "Jitter", "blue-noise jittered ray start, a new offset each frame"),
+    ("r_cloudTAA", "taa", "TAA", "temporal anti-aliasing of the cloud buffer"),
+    ("r_cloudEarlyExit", "early_exit", "Early exit", "stop a ray once the clouds are 99 % opaque"),
+    ("r_cloudBigSteps", "big_steps", "Big steps", "triple steps through empty space, one back on a hit"),
+    ("r_cloudLightSkip", "light_skip", "Light skip", "march towards the sun only where the density is above 0"),
+    ("r_cloudDetailSkip", "detail_skip", "Detail skip",
+     "detail and curl only inside the shape; nothing where coverage is 0"),
+    ("r_cloudReproject", "reproject", "Reprojection", "trace one pixel of each 4x4 block a frame, keep the rest"),
+    ("r_cloudDebugSamples", "debug_samples", "Sample count view",
+     "show texture lookups per pixel, black 0 .. white 1000"),
 )
 
 
@@ -44,7 +46,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
                       min=1, max=1024, archive=True))
     reg.add_cvar(Cvar("r_cloudDownsample", int, defaults.downsample, "the cloud buffer is 1/N of the view per axis",
                       min=1, max=4, archive=True))
-    for name, field, text in SWITCHES:
+    for name, field, _label, text in SWITCHES:
         reg.add_cvar(Cvar(name, bool, getattr(defaults, field), text, archive=True))
     reg.add_cvar(Cvar("r_cloudIntegration", str, defaults.integration,
                       "energy: exp(-sigma dt) per step (converges); seed: the seed's density-as-alpha sum",
@@ -213,5 +215,5 @@ def render_settings(console: Console, state: CloudsWorkspace) -> CloudRenderSett
     return CloudRenderSettings(
         steps=cvars["r_cloudSteps"].value, downsample=cvars["r_cloudDownsample"].value,
         integration=cvars["r_cloudIntegration"].value,
-        **{field: bool(cvars[name].value) for name, field, _ in SWITCHES})
+        **{field: bool(cvars[name].value) for name, field, _label, _text in SWITCHES})
 

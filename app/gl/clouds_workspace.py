@@ -2,10 +2,14 @@
 frames while its temporal histories fill (TAA, reprojection)."""
 from __future__ import annotations
 
+from dataclasses import replace
+
 from app.gl.clouds import CloudRenderer
 from app.gl.renderer_base import WorkspaceRendererBase
 from app.io.cloud_textures import noise_textures
 from app.model.clouds import CloudRenderSettings, frame
+
+INTERACTIVE_DOWNSAMPLE = 4
 
 
 class CloudsWorkspaceRenderer(WorkspaceRendererBase):
@@ -21,10 +25,13 @@ class CloudsWorkspaceRenderer(WorkspaceRendererBase):
     def render(self, fbo, state, settings: CloudRenderSettings, interactive: bool = False) -> bool:
         # Hosts call prepare() first, with a progress bar; one that did not waits for the textures here.
         noise = noise_textures()
+        if interactive:  # while the view moves: a quarter-size buffer, no histories; the full frame after
+            settings = replace(settings, downsample=max(settings.downsample, INTERACTIVE_DOWNSAMPLE), taa=False,
+                               reproject=False)
         self.clouds.render(fbo, frame(state.params, state.view, state.wind_time, state.blend()), state.weather,
                            settings, noise)
-        self._settling = self.clouds.settling(settings)
-        return False
+        self._settling = not interactive and self.clouds.settling(settings)
+        return interactive
 
     def settling(self) -> bool:
         return self._settling

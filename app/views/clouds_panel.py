@@ -5,7 +5,7 @@ from __future__ import annotations
 import shlex
 
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGroupBox,
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGridLayout, QGroupBox,
                                QHBoxLayout, QLabel, QPushButton, QSlider, QVBoxLayout, QWidget)
 
 from app.commands.clouds import SWITCHES
@@ -71,11 +71,13 @@ class CloudsPanel(QWidget):
         self.integration.addItems(INTEGRATIONS)
         self.integration.currentTextChanged.connect(lambda m: self._send(f"r_cloudIntegration {m}"))
         render.addRow("Integration", self.integration)
-        for name, _field, text in SWITCHES:
-            box = QCheckBox(text[0].upper() + text[1:])
+        switches = QGridLayout()
+        for i, (name, _field, label, text) in enumerate(SWITCHES):
+            box = QCheckBox(label, toolTip=f"{name}: {text}")
             box.toggled.connect(lambda on, n=name: self._send(f"{n} {int(on)}"))
             self.checks[name] = box
-            render.addRow(box)
+            switches.addWidget(box, i // 2, i % 2)
+        render.addRow(switches)
 
         sun = self._group(layout, "Sun")
         self.hour = ValueRow(0, 24, 2, lambda h: self._send(f"sun.time {h:g}"))
@@ -104,7 +106,7 @@ class CloudsPanel(QWidget):
                 self._param_row(form, PARAM[name])
         noise = self._group(layout, "Noise and light march")
         for name in TOGGLES:
-            box = QCheckBox(PARAM[name].text[0].upper() + PARAM[name].text[1:])
+            box = QCheckBox(name.replace("_", " ").capitalize(), toolTip=PARAM[name].text)
             box.toggled.connect(lambda on, n=name: self._send(f"clouds.set {n} {int(on)}"))
             self.checks[name] = box
             noise.addRow(box)

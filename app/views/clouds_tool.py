@@ -51,4 +51,4 @@ class CloudsTool(ViewportTool):
             return
         if last is not None:
             self.state.advance(min(now - last, 0.25))  # a stalled frame does not jump the sky
-            self.viewport.update()
+            self.viewport.update_full()

@@ -88,12 +88,18 @@ class Viewport(QOpenGLWidget):
         self.renderer.frame_took(ms, self.interactive)
         if deferred:
             self._idle_timer.start()
-        if self.renderer.settling():  # a temporal history filling: the next frame at once, after events
-            QTimer.singleShot(0, self.update)
         self._refining = False
+        if self.renderer.settling():  # a temporal history filling: the next frame at once (after events)
+            QTimer.singleShot(0, self.update_full)
         self.frames += 1
         self.frame_ms.append(ms)
         self.frame_rendered.emit(ms)
+
+    def update_full(self) -> None:
+        """Ask for a frame that is not part of an interaction (time passing, a history filling): drawn at
+        full quality however soon it follows the last."""
+        self._refining = True
+        self.update()
 
     def _idle(self) -> None:
         """Nothing moved for a while: catch up on deferred work and draw at full quality."""

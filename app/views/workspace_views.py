@@ -83,6 +83,6 @@ VIEWS: dict[str, WorkspaceViews] = {
     "lighting2d": WorkspaceViews(Lighting2DTool, lighting2d_panel, 300),
     "volume": WorkspaceViews(VolumeTool, volume_panel, 520),
     "clouds": WorkspaceViews(CloudsTool, lambda window, state, tool: Scrolled(CloudsPanel(window.editor, state,
-                                                                                          window.run)), 360),
+                                                                                          window.run)), 420),
     "snowflake": WorkspaceViews(SnowflakeTool, lambda window, state, tool: SnowflakePanel(state, window.run)),
 }
