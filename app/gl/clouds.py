@@ -94,7 +94,10 @@ def uniforms(frame: Frame, settings: CloudRenderSettings, aspect: float, frame_i
     values.update(u_aspect=aspect, u_steps=settings.steps, u_seed_integration=int(settings.integration == "seed"),
                   u_early_exit=int(settings.early_exit), u_big_steps=int(settings.big_steps),
                   u_light_skip=int(settings.light_skip), u_detail_skip=int(settings.detail_skip),
-                  u_jitter=int(settings.jitter), u_frame_offset=(frame_index * GOLDEN) % 1.0)
+                  u_jitter=int(settings.jitter),
+                  # With reprojection a pixel keeps its sample for 16 frames: offsets changing each frame would
+                  # differ inside a 4x4 block and show its pattern, so the blue noise then stays put.
+                  u_frame_offset=0.0 if settings.reproject else (frame_index * GOLDEN) % 1.0)
     return values
 
 
