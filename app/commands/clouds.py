@@ -38,6 +38,14 @@ def _finite(what: str, *values: float) -> None:
         raise CommandError(f"{what} must be finite numbers")
 
 
+def _direction(what: str, around: float, up: float) -> tuple[float, float]:
+    """A direction in degrees as (around modulo 360, up), up within -90..90; else CommandError."""
+    _finite(what, around, up)
+    if not -90 <= up <= 90:
+        raise CommandError(f"{what}: the second must be within -90..90 degrees, got {up:g}")
+    return around % 360.0, up
+
+
 def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> None:
     reg = console.registry.scoped(state.name)
     history = state.history
@@ -119,10 +127,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
 
     @checks.add("camera.look")
     def look(yaw: float, pitch: float) -> tuple[float, float]:
-        _finite("yaw and pitch", yaw, pitch)
-        if not -90 <= pitch <= 90:
-            raise CommandError(f"the pitch must be within -90..90 degrees, got {pitch:g}")
-        return yaw % 360.0, pitch
+        return _direction("the view's yaw and pitch", yaw, pitch)
 
     @reg.command("camera.look", "yaw:float pitch:float", "Look towards yaw (degrees, 0 along +z) and pitch "
                  "(-90 down .. 90 up)")
@@ -132,10 +137,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
 
     @checks.add("sun.dir")
     def sun(azimuth: float, elevation: float) -> tuple[float, float]:
-        _finite("the sun's azimuth and elevation", azimuth, elevation)
-        if not -90 <= elevation <= 90:
-            raise CommandError(f"the sun's elevation must be within -90..90 degrees, got {elevation:g}")
-        return azimuth % 360.0, elevation
+        return _direction("the sun's azimuth and elevation", azimuth, elevation)
 
     @reg.command("sun.dir", "azimuth:float elevation:float", "Put the sun at this azimuth and elevation (degrees)")
     def sun_dir(azimuth: float, elevation: float) -> None:
