@@ -101,21 +101,30 @@ def render(args) -> int:
 
 
 def bench(args) -> int:
-    from app.bench import TECHNIQUES
+    from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE
     from app.bench import harness, report
-    from app.gl.headless import create_context
+    from app.gl.headless import create_context, release_context
+    from app.gl.workspace_renderer import RENDERERS
 
     ensure_qt_app(offscreen=True)  # the chart is painted by pyqtgraph
     tech = TECHNIQUES[args.technique](quick=args.quick)
+    for workspace, technique in WORKSPACE_TECHNIQUE.items():  # textures made before the first frame, with a bar
+        if technique == args.technique and workspace in RENDERERS:
+            RENDERERS[workspace].prepare(terminal_progress(sys.stderr))
     ctx = create_context()
-    print(f"bench {tech.name} on {ctx.info['GL_RENDERER']}{' (quick)' if args.quick else ''}")
-    start = time.perf_counter()
-    rows = harness.run(ctx, tech, quick=args.quick, progress=print)
-    out = Path(args.out)
-    csv_path, png_path = out / f"{tech.name}.csv", out / f"{tech.name}.png"
-    report.write_csv(csv_path, rows)
-    report.save_chart(png_path, report.read_csv(csv_path))
-    print(f"wrote {csv_path} and {png_path} in {time.perf_counter() - start:.1f} s")
+    try:
+        print(f"bench {tech.name} on {ctx.info['GL_RENDERER']}{' (quick)' if args.quick else ''}")
+        start = time.perf_counter()
+        rows = harness.run(ctx, tech, quick=args.quick, progress=print)
+        out = Path(args.out)
+        csv_path, png_path = out / f"{tech.name}.csv", out / f"{tech.name}.png"
+        report.write_csv(csv_path, rows)
+        report.save_chart(png_path, report.read_csv(csv_path))
+        if tech.extra_outputs is not None:
+            tech.extra_outputs(ctx, out, args.quick, rows, print)
+        print(f"wrote {csv_path} and {png_path} in {time.perf_counter() - start:.1f} s")
+    finally:
+        release_context(ctx)  # leaves none current: a caller in this process may make its own
     return 0
 
 

@@ -77,3 +77,29 @@ def test_chart_right_panel_keeps_to_the_first_knob_with_one_legend_entry_per_met
     assert time_plot.legend.isVisible()
     report.clear_chart(error_plot, time_plot)
     assert not error_plot.listDataItems() and not time_plot.legend.isVisible()
+
+
+def test_a_method_may_draw_at_its_own_size(gl):
+    seen = []
+
+    def reference(_scene, _value, size):
+        seen.append(size)
+        return np.full((size[1], size[0], 3), 0.5)
+
+    own = Method("own", "level", (0.5,), flat_grey, render_grey, output_grey, size=(24, 12), quick_size=(12, 6),
+                 reference=reference)
+    tech = tiny()
+    tech.methods.append(own)
+    rows = harness.run(gl, tech, quick=True, runs=1)
+    assert [(r.method, r.width, r.height) for r in rows] == [("clear", 16, 8), ("clear", 16, 8), ("own", 12, 6)]
+    assert seen == [(12, 6)] and rows[-1].max_abs_error <= 1 / 255
+    full = harness.run(gl, tech, runs=1)
+    assert [(r.width, r.height) for r in full] == [(32, 16), (32, 16), (24, 12)]
+
+
+def test_interleaved_timing_draws_each_in_turn(gl):
+    order = []
+    draws = {name: (lambda name=name: order.append(name)) for name in ("a", "b")}
+    timed = harness.time_interleaved(gl, draws, 3)
+    assert order == ["a", "b"] * 4  # one warm-up round, then three timed
+    assert set(timed) == {"a", "b"} and all(wall >= 0 and gpu >= 0 for wall, gpu in timed.values())

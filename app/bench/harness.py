@@ -4,6 +4,7 @@ from __future__ import annotations
 import statistics
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import moderngl
@@ -28,6 +29,8 @@ class Method:
     quick_values: Sequence[float] | None = None
     reference: Callable[[Any, float, tuple[int, int]], np.ndarray] | None = None  # else the technique's
     stats: Callable[[Any, OffscreenTarget, float, Any], dict] | None = None  # extra CSV columns
+    size: tuple[int, int] | None = None        # the output's size for this method, else the technique's
+    quick_size: tuple[int, int] | None = None  # ... with --quick, else the technique's quick_size
 
 
 @dataclass
@@ -40,6 +43,8 @@ class Technique:
     quick_size: tuple[int, int] = (256, 256)
     quick_scenes: Sequence[str] | None = None
     extra_rows: Callable[[bool, tuple[int, int], int, Callable[[str], None]], list] | None = None  # peers' rows
+    # more files in the bench's output folder, after the CSV: (ctx, folder, quick, rows, progress)
+    extra_outputs: Callable[[moderngl.Context, Path, bool, list["Row"], Callable[[str], None]], None] | None = None
 
 
 @dataclass
@@ -89,6 +94,27 @@ def time_frames(ctx: moderngl.Context, draw: Callable[[], None], runs: int) -> t
     return statistics.median(wall), statistics.median(gpu)
 
 
+def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int
+                     ) -> dict[str, tuple[float, float]]:
+    """time_frames for several draws at once, one frame of each in turn per round, so that whatever slows the
+    machine for a while slows them alike: name -> (median wall ms, median GPU ms)."""
+    for draw in draws.values():
+        draw()
+    ctx.finish()
+    wall: dict[str, list[float]] = {name: [] for name in draws}
+    gpu: dict[str, list[float]] = {name: [] for name in draws}
+    query = ctx.query(time=True)
+    for _ in range(runs):
+        for name, draw in draws.items():
+            start = time.perf_counter()
+            with query:
+                draw()
+            ctx.finish()
+            wall[name].append((time.perf_counter() - start) * 1e3)
+            gpu[name].append(query.elapsed / 1e6)
+    return {name: (statistics.median(wall[name]), statistics.median(gpu[name])) for name in draws}
+
+
 def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int | None = None,
         progress: Callable[[str], None] = lambda _: None) -> list[Row]:
     size = tech.quick_size if quick else tech.size
@@ -96,9 +122,14 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
     scene_names = list(tech.quick_scenes if quick and tech.quick_scenes else tech.scenes)
     references: dict[tuple, np.ndarray] = {}
     rows: list[Row] = []
-    target = OffscreenTarget(ctx, size)
+    targets: dict[tuple[int, int], OffscreenTarget] = {}
     try:
         for method in tech.methods:
+            own = method.quick_size if quick else method.size
+            method_size = tuple(own) if own is not None else size
+            if method_size not in targets:
+                targets[method_size] = OffscreenTarget(ctx, method_size)
+            target = targets[method_size]
             state = method.setup(ctx)
             values = method.quick_values if quick and method.quick_values is not None else method.values
             for scene_name in scene_names:
@@ -106,17 +137,18 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
                 for value in values:
                     ms, gpu_ms = time_frames(ctx, lambda: method.render(state, target, value, scene), runs)
                     reference = method.reference or tech.reference
-                    key = (reference, scene_name, value)
+                    key = (reference, scene_name, value, method_size)
                     if key not in references:
-                        references[key] = reference(scene, value, size)
+                        references[key] = reference(scene, value, method_size)
                     rmse, max_err = errors(method.output(state, target, value, scene), references[key])
                     extra = method.stats(state, target, value, scene) if method.stats else {}
-                    rows.append(Row(tech.name, method.name, method.knob, float(value), scene_name, size[0], size[1],
-                                    ms, gpu_ms, runs, rmse, max_err, extra))
+                    rows.append(Row(tech.name, method.name, method.knob, float(value), scene_name, method_size[0],
+                                    method_size[1], ms, gpu_ms, runs, rmse, max_err, extra))
                     progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: "
                              f"{ms:8.2f} ms  rmse {rmse:.2e}  max {max_err:.2e}")
     finally:
-        target.release()
+        for target in targets.values():
+            target.release()
     if tech.extra_rows is not None:
         rows += tech.extra_rows(quick, size, runs, progress)
     return rows

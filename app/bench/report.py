@@ -13,6 +13,7 @@ from app.bench.harness import CSV_COLUMNS, Row
 from app.io.atomic import write_text
 
 ERROR_FLOOR = 1e-9  # zero error still needs a place on a log axis
+LEGEND_ROWS = 12    # a legend with more entries than this lays them out in two columns
 PALETTE = ("#4cc9f0", "#f72585", "#ffd166", "#06d6a0", "#b388ff", "#ff9f1c", "#8ecae6", "#ef476f",
            "#90be6d", "#f8961e", "#c77dff", "#e9ecef")
 
@@ -99,6 +100,7 @@ def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> N
                 named = True
     for p in (error_plot, time_plot):
         p.legend.setVisible(bool(p.legend.items))  # an empty legend still draws its box
+        p.legend.setColumnCount(2 if len(p.legend.items) > LEGEND_ROWS else 1)
 
 
 def clear_chart(error_plot, time_plot) -> None:

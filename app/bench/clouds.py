@@ -1,0 +1,340 @@
+"""Volumetric clouds bench (seed 001, after Nubis): the GPU against the float64 CPU reference, the seed's
+Figures 39 and 41 re-made, and every optimisation's error against its time.
+
+One scene (the workspace's defaults: camera 200 m up looking 12 degrees above the horizon, sun at 25 degrees,
+weather map 1, still clock), the knob is r_cloudSteps throughout, each part at its own output size:
+
+- `energy`, `seed`: the GPU with no optimisation (full buffer, no jitter, TAA, early exit, big steps, light
+  or detail skip) at small sizes against the CPU reference (app/reference/clouds.py, energy integration) at
+  its own converged step count; `cpu energy` rows show that reference converging (the issue's measures 1
+  and 5: the seed's alpha-per-sample integration never converges);
+- `buffer 1` .. `buffer 1/4`: the renderer's default optimisations with the cloud buffer 1/N of the output
+  on each axis, at a larger size (Figure 41: frame time against steps), against the no-optimisation image
+  at the largest step count;
+- `none`, `only <optimisation>`, `+ <optimisation>` (each added to the ones before it, Figure 39's order)
+  and `all`: against the no-optimisation GPU image at the same steps and size (measure 4).
+
+Every GPU row is a steady-state frame of a still camera: before timing, frames are drawn until the renderer
+no longer settles (TAA and reprojection histories full). Frames are drawn into a float RGBA target (no 8-bit
+rounding in the errors). `samples_per_px` is the texture lookups per output pixel of a frame (the
+r_cloudDebugSamples count, CloudRenderer.lookups), `mean_abs_error` the mean absolute error over the RGB
+channels (0..1). app/bench/clouds_report.py writes the sample-count images, the tables and the verdicts.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property, lru_cache
+from typing import Callable
+
+import numpy as np
+
+from app.bench.harness import Method, Row, Technique
+from app.model.clouds import CloudParams, CloudRenderSettings, CloudTextures, CloudView, frame
+
+KNOB = "steps"
+SCENE = "default"
+MAX_SETTLE = 32  # frames drawn at most before timing, until the temporal histories are full
+
+# Every optimisation off: the image the others are measured against.
+NONE = CloudRenderSettings(downsample=1, jitter=False, taa=False, early_exit=False, big_steps=False,
+                           light_skip=False, detail_skip=False, reproject=False)
+# Figure 39's order: (label, the settings it switches on)
+OPTIMISATIONS: tuple[tuple[str, dict], ...] = (
+    ("early exit", {"early_exit": True}),
+    ("big steps", {"big_steps": True}),
+    ("light skip", {"light_skip": True}),
+    ("detail skip", {"detail_skip": True}),
+    ("buffer 1/2", {"downsample": 2}),
+    ("jitter+TAA", {"jitter": True, "taa": True}),
+    ("reprojection", {"reproject": True}),
+)
+ALL = replace(NONE, **{k: v for _label, changes in OPTIMISATIONS for k, v in changes.items()})
+# Optimisations that can only take texture lookups away (the others move or re-take samples).
+SAVING = ("early exit", "light skip", "detail skip", "buffer 1/2", "reprojection")
+BUFFERS = {1: "buffer 1", 2: "buffer 1/2", 3: "buffer 1/3", 4: "buffer 1/4"}
+# All the optimisations but the ones that cost the most accuracy: where the error of `all` comes from.
+ALL_BUT = {"all but buffer 1/2": {"downsample": 1},
+           "all but buffer 1/2 & big steps": {"downsample": 1, "big_steps": False}}
+
+
+def stages() -> list[tuple[str, str, CloudRenderSettings]]:
+    """Figure 39: (step label, CSV method, settings), none first, then each optimisation added in turn; the
+    first step is the `only early exit` row and the last the `all` row (one measurement each)."""
+    out = [("none", "none", NONE)]
+    settings = NONE
+    for i, (label, changes) in enumerate(OPTIMISATIONS):
+        settings = replace(settings, **changes)
+        method = "only " + label if i == 0 else "all" if i == len(OPTIMISATIONS) - 1 else "+ " + label
+        out.append(("+ " + label, method, settings))
+    return out
+
+
+def slug(label: str) -> str:
+    return "".join(c if c.isalnum() else "-" for c in label.strip("+ ").lower()).strip("-").replace("--", "-")
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Sizes, step counts and rounds of one run."""
+    reference_size: tuple[int, int] = (96, 54)
+    reference_steps: int = 4096             # the CPU reference's own step count (converged)
+    gpu_steps: tuple[int, ...] = (64, 128, 256, 512, 1024)
+    cpu_steps: tuple[int, ...] = (512, 1024, 2048)
+    buffer_size: tuple[int, int] = (640, 360)
+    buffer_steps: tuple[int, ...] = (16, 32, 64, 128, 256)
+    settings_size: tuple[int, int] = (320, 180)
+    settings_steps: tuple[int, ...] = (64, 128)
+    stage_steps: int = 128                  # Figure 39 and the all-against-none verdict
+    converged_steps: int = 1024             # the no-optimisation GPU image that settings rows also meet
+    interleaved_rounds: int = 7             # frames of none and all, in turn, for the verdict's speed-up
+
+
+FULL = Plan()
+QUICK = Plan(reference_size=(32, 18), reference_steps=1024, gpu_steps=(64, 256), cpu_steps=(256,),
+             buffer_size=(160, 90), buffer_steps=(32, 128), settings_size=(64, 36), settings_steps=(64,),
+             stage_steps=64, converged_steps=256, interleaved_rounds=3)
+
+
+@dataclass(eq=False)  # hashed by identity: the CPU reference's cache keys on it
+class CloudScene:
+    """What a frame shows: the model, the view, the weather (a WeatherBlend), the clock's wind and blend."""
+    name: str
+    params: CloudParams = field(default_factory=CloudParams)
+    view: CloudView = field(default_factory=CloudView)
+    wind_time: float = 0.0
+
+    @cached_property
+    def weather(self):
+        from app.model.clouds_workspace import CloudsWorkspace
+
+        return CloudsWorkspace().weather  # the workspace's first map, made on first use
+
+    def frame(self):
+        return frame(self.params, self.view, self.wind_time, 1.0)
+
+    def textures(self) -> CloudTextures:
+        from app.io.cloud_textures import noise_textures
+
+        noise = noise_textures()
+        return CloudTextures(noise.shape, noise.detail, noise.curl, noise.cirrus, *self.weather.maps)
+
+
+class FloatTarget:
+    """An RGBA float32 colour target, read back top row first."""
+
+    def __init__(self, ctx, size: tuple[int, int]) -> None:
+        self.size = size
+        self.texture = ctx.texture(size, 4, dtype="f4")
+        self.fbo = ctx.framebuffer([self.texture])
+
+    def read(self) -> np.ndarray:
+        w, h = self.size
+        return np.frombuffer(self.texture.read(), dtype="f4").reshape(h, w, 4)[::-1].copy()
+
+    def release(self) -> None:
+        self.fbo.release()
+        self.texture.release()
+
+
+class Shared:
+    """One shader library per GL context for all the methods of a run (the clouds' programs compile once)."""
+
+    def __init__(self) -> None:
+        self.ctx = None
+        self.library = None
+
+    def shaders(self, ctx):
+        if self.ctx is not ctx:
+            from app.gl.shaders import ShaderLibrary
+            from app.resources import SHADERS
+
+            self.ctx, self.library = ctx, ShaderLibrary(ctx, [SHADERS])
+        return self.library
+
+
+class CloudState:
+    """One cloud renderer (its own histories) drawing into its own float targets."""
+
+    def __init__(self, ctx, shared: Shared) -> None:
+        from app.gl.clouds import CloudRenderer
+
+        self.ctx = ctx
+        self.renderer = CloudRenderer(ctx, shared.shaders(ctx))
+        self.targets: dict[tuple, FloatTarget] = {}
+        self.settled = None      # (settings, size) the histories are full for
+        self.output = None       # the last image read (H, W, 3)
+
+    def target(self, size: tuple[int, int], name: str = "colour") -> FloatTarget:
+        t = self.targets.get((name, size))
+        if t is None:
+            t = self.targets[(name, size)] = FloatTarget(self.ctx, size)
+        return t
+
+    def draw(self, scene: CloudScene, settings: CloudRenderSettings, size: tuple[int, int],
+             name: str = "colour") -> FloatTarget:
+        from app.io.cloud_textures import noise_textures
+
+        target = self.target(size, name)
+        self.renderer.render(target.fbo, scene.frame(), scene.weather, settings, noise_textures())
+        return target
+
+    def steady(self, scene: CloudScene, settings: CloudRenderSettings, size: tuple[int, int]) -> None:
+        """One frame, after enough frames that a still camera's histories are full (first call per setting)."""
+        if self.settled != (settings, size):
+            for _ in range(MAX_SETTLE):
+                self.draw(scene, settings, size)
+                if not self.renderer.settling(settings):
+                    break
+            self.settled = (settings, size)
+        self.draw(scene, settings, size)
+
+    def image(self, size: tuple[int, int]) -> np.ndarray:
+        self.output = self.target(size).read()[..., :3].astype(np.float64)
+        return self.output
+
+    def samples(self, scene: CloudScene, settings: CloudRenderSettings, size: tuple[int, int]
+                ) -> tuple[float, np.ndarray]:
+        """(lookups per output pixel, the r_cloudDebugSamples view as grey uint8) of one more steady frame."""
+        debug = self.draw(scene, replace(settings, debug_samples=True), size, "debug")
+        grey = np.round(np.clip(debug.read()[..., 0], 0.0, 1.0) * 255).astype(np.uint8)
+        return self.renderer.lookups(size, scene.frame(), settings), grey
+
+
+class CloudsBench:
+    """The technique's methods and references; `captures` keeps each row's sample-count view for the report."""
+
+    def __init__(self, plan: Plan) -> None:
+        self.plan = plan
+        self.shared = Shared()
+        self.scene = CloudScene(SCENE)
+        self.captures: dict[tuple[str, float], dict] = {}
+        self._gpu_references: dict[tuple, np.ndarray] = {}
+
+    # ---- references ---------------------------------------------------------------------------------
+
+    def cpu_reference(self, steps: int, size: tuple[int, int], early_exit: bool = False):
+        return _cpu_render(self.scene, int(steps), tuple(size), early_exit)
+
+    def converged(self, _scene=None, _value=None, size=None) -> np.ndarray:
+        """The CPU reference's image at its own step count."""
+        return self.cpu_reference(self.plan.reference_steps, size or self.plan.reference_size).rgb
+
+    def gpu_reference(self, steps: int, size: tuple[int, int]) -> np.ndarray:
+        """The no-optimisation GPU image (deterministic: no jitter, no history), on the methods' context."""
+        key = (int(steps), tuple(size))
+        if key not in self._gpu_references:
+            if self.shared.ctx is None:
+                raise RuntimeError("the GPU reference draws on the methods' GL context: set a method up first")
+            state = CloudState(self.shared.ctx, self.shared)
+            state.steady(self.scene, replace(NONE, steps=int(steps)), tuple(size))
+            self._gpu_references[key] = state.image(tuple(size))
+            for t in state.targets.values():
+                t.release()
+        return self._gpu_references[key]
+
+    # ---- methods ------------------------------------------------------------------------------------
+
+    def same_steps(self, integration: str) -> Callable[[float, tuple, np.ndarray], dict]:
+        """The error against the CPU reference at the same steps and integration: the GPU's and the
+        reference's implementations compared, with the step count's own error taken out."""
+        def extra(steps: float, size: tuple[int, int], image: np.ndarray) -> dict:
+            diff = np.abs(image - _cpu_render(self.scene, int(steps), tuple(size), False, integration).rgb)
+            return {"same_steps_mean_error": float(diff.mean()), "same_steps_max_error": float(diff.max())}
+        return extra
+
+    def against_converged(self, _steps: float, size: tuple[int, int], image: np.ndarray) -> dict:
+        """The mean error against the no-optimisation image at many steps (what the steps should converge to)."""
+        fine = self.gpu_reference(self.plan.converged_steps, size)
+        return {"converged_mean_error": float(np.abs(image - fine).mean())}
+
+    def method(self, name: str, settings_for: Callable[[float], CloudRenderSettings], values, size,
+               reference: Callable[[CloudScene, float, tuple[int, int]], np.ndarray],
+               extra: Callable[[float, tuple, np.ndarray], dict] | None = None) -> Method:
+        def setup(ctx) -> CloudState:
+            return CloudState(ctx, self.shared)
+
+        def render(state: CloudState, target, value, scene) -> None:
+            state.steady(scene, settings_for(value), target.size)
+
+        def output(state: CloudState, target, value, scene) -> np.ndarray:
+            return state.image(target.size)
+
+        def stats(state: CloudState, target, value, scene) -> dict:
+            samples, grey = state.samples(scene, settings_for(value), target.size)
+            self.captures[(name, float(value))] = {"samples": samples, "image": grey}
+            error = float(np.abs(state.output - reference(scene, value, target.size)).mean())
+            more = extra(value, target.size, state.output) if extra is not None else {}
+            return {"samples_per_px": samples, "mean_abs_error": error, **more}
+
+        return Method(name, KNOB, tuple(values), setup, render, output, quick_values=tuple(values),
+                      reference=reference, stats=stats, size=size, quick_size=size)
+
+    def methods(self) -> list[Method]:
+        p = self.plan
+        out = [self.method(integration, lambda v, i=integration: replace(NONE, steps=int(v), integration=i),
+                           p.gpu_steps, p.reference_size, self.converged, self.same_steps(integration))
+               for integration in ("energy", "seed")]
+        finest = max(p.buffer_steps)
+        out += [self.method(name, lambda v, d=d: CloudRenderSettings(steps=int(v), downsample=d), p.buffer_steps,
+                            p.buffer_size, lambda _sc, _v, size: self.gpu_reference(finest, size))
+                for d, name in BUFFERS.items()]
+        same_steps = lambda _sc, v, size: self.gpu_reference(int(v), size)  # noqa: E731
+        settings = [("none", NONE, p.settings_steps)]
+        settings += [("only " + label, replace(NONE, **changes), p.settings_steps) for label, changes in OPTIMISATIONS]
+        settings += [(method, s, (p.stage_steps,)) for _label, method, s in stages()[2:-1]]
+        settings.append(("all", ALL, p.settings_steps))
+        settings += [(name, replace(ALL, **changes), p.settings_steps) for name, changes in ALL_BUT.items()]
+        out += [self.method(name, lambda v, s=s: replace(s, steps=int(v)), values, p.settings_size, same_steps,
+                            self.against_converged)
+                for name, s, values in settings]
+        return out
+
+    # ---- the CPU reference's own rows ---------------------------------------------------------------
+
+    def cpu_rows(self, quick: bool, _size, _runs: int, progress: Callable[[str], None]) -> list[Row]:
+        """`cpu energy` at coarser steps against itself at its own step count: it converges."""
+        import time
+
+        size = self.plan.reference_size
+        truth = self.converged(size=size)
+        rows = []
+        for steps in self.plan.cpu_steps:
+            start = time.perf_counter()
+            image = _cpu_render.__wrapped__(self.scene, int(steps), size, False)  # timed: never cached
+            ms = (time.perf_counter() - start) * 1e3
+            diff = np.abs(image.rgb - truth)
+            rows.append(Row("clouds", "cpu energy", KNOB, float(steps), SCENE, size[0], size[1], ms, float("nan"), 1,
+                            float(np.sqrt(np.mean(diff * diff))), float(diff.max()),
+                            {"samples_per_px": float(image.samples.mean()), "mean_abs_error": float(diff.mean())}))
+            progress(f"{'cpu energy':>14} {SCENE} {KNOB}={steps}: {ms:8.0f} ms  mean {diff.mean() * 255:.3f}/255  "
+                     f"max {diff.max() * 255:.3f}/255 (against itself at {self.plan.reference_steps})")
+        return rows
+
+
+@lru_cache(maxsize=32)
+def _cpu_render(scene: CloudScene, steps: int, size: tuple[int, int], early_exit: bool = False,
+                integration: str = "energy"):
+    from app.reference.clouds import render
+
+    return render(scene.params, scene.view, scene.textures(), size, steps, integration, scene.wind_time, 1.0,
+                  early_exit)
+
+
+def technique(quick: bool = False, plan: Plan | None = None) -> Technique:
+    return make_technique(CloudsBench(plan or (QUICK if quick else FULL)))
+
+
+def make_technique(bench: CloudsBench) -> Technique:
+    from app.bench import clouds_report
+
+    p = bench.plan
+    return Technique(
+        name="clouds",
+        methods=bench.methods(),
+        scenes={SCENE: bench.scene},
+        reference=bench.converged,
+        size=p.settings_size,
+        quick_size=p.settings_size,
+        extra_rows=bench.cpu_rows,
+        extra_outputs=lambda ctx, out, quick_, rows, progress: clouds_report.write(bench, ctx, out, rows, progress),
+    )
