@@ -86,12 +86,7 @@ def test_coverage_zero_leaves_a_clear_sky_and_two_an_overcast_one(host):
 
 def lookups(host, state, settings, frames=1, size=SIZE):
     rgb, _, clouds = draw(host, state, settings, size, frames)
-    return clouds.lookups(size, _frame(state), settings)
-
-
-def _frame(state):
-    from app.model.clouds import frame
-    return frame(state.params, state.view, state.wind_time, state.blend())
+    return clouds.lookups(size, state.frame(), settings)
 
 
 NO_OPTIMISATION = replace(PLAIN, early_exit=False, big_steps=False, light_skip=False, detail_skip=False)
@@ -136,7 +131,7 @@ def test_a_fast_turn_with_reprojection_leaves_no_ghost_trail(host):
     for _ in range(4):
         state.set_camera(yaw=state.view.yaw + 6.0)
         shown, buffer, clouds = draw(host, state, settings)
-    turning = clouds.lookups(SIZE, _frame(state), settings)
+    turning = clouds.lookups(SIZE, state.frame(), settings)
     assert np.isfinite(buffer).all()
     truth, _, _ = draw(host, state, PLAIN)
     ghost = np.abs(shown - truth).mean(axis=2)
@@ -184,3 +179,16 @@ def test_the_sample_count_view_is_grey_by_lookups(host):
     rgb, _, _ = draw(host, state, replace(PLAIN, debug_samples=True))
     assert np.allclose(rgb[..., 0], rgb[..., 1]) and np.allclose(rgb[..., 1], rgb[..., 2])
     assert rgb.max() > 0.02
+
+
+def test_weather_maps_are_uploaded_only_when_they_change(host):
+    state = sky(pitch=20.0)
+    draw(host, state)
+    textures = host.renderers["clouds"].clouds.textures
+    assert textures.sync_weather(state.weather) == 0  # the frame drawn has them
+    state.advance(1.0)
+    draw(host, state)
+    assert textures.sync_weather(state.weather) == 0  # the clock moved, the maps did not
+    from app.model.cloud_weather import weather_map
+    state.new_weather(weather_map(7, 256), "new 7")
+    assert textures.sync_weather(state.weather) == 2

@@ -104,24 +104,14 @@ def buffer_section(rows: list[Row], plan) -> list[str]:
     text = [f"## 2. Figure 41: frame time against steps, per cloud buffer ({w}x{h} output)", "",
             "The renderer's default optimisations (jitter, TAA, early exit, big steps, light and detail skip; no "
             "reprojection), steady state. Wall ms per frame (GPU-query ms in brackets).", ""]
-    lines = []
-    for steps in plan.buffer_steps:
-        line = [f"{steps}"]
-        for name in names:
-            r = find(rows, name, steps)
-            line.append("n/a" if r is None else f"{ms(r.ms_median)} ({ms(r.gpu_ms_median)})")
-        lines.append(line)
-    text += table(["steps", *names], lines)
+
+    def grid(cell) -> list[str]:  # a row per step count, a column per buffer
+        return table(["steps", *names], [[f"{steps}", *("n/a" if (r := find(rows, name, steps)) is None else cell(r)
+                                                          for name in names)] for steps in plan.buffer_steps])
+    text += grid(lambda r: f"{ms(r.ms_median)} ({ms(r.gpu_ms_median)})")
     text += ["", f"Mean error (1/255) against the no-optimisation image at {max(plan.buffer_steps)} steps, full "
              "buffer; lookups per output pixel in brackets.", ""]
-    lines = []
-    for steps in plan.buffer_steps:
-        line = [f"{steps}"]
-        for name in names:
-            r = find(rows, name, steps)
-            line.append("n/a" if r is None else f"{e255(mean_err(r))} ({samples(r):.0f})")
-        lines.append(line)
-    return text + table(["steps", *names], lines)
+    return text + grid(lambda r: f"{e255(mean_err(r))} ({samples(r):.0f})")
 
 
 def stage_rows(rows: list[Row], plan) -> list[tuple[int, str, str, Row | None]]:

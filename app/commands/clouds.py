@@ -14,7 +14,7 @@ from app.io.clouds_scene import MAX_SEED, CloudScene, CloudSceneError
 from app.io.weather_image import WeatherError, load_weather
 from app.model.cloud_weather import resample, weather_map
 from app.model.clouds import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
-                              clamp_altitude, sun_at_hour)
+                              sun_at_hour)
 from app.model.clouds_workspace import WEATHER_SIZE, CloudsWorkspace
 from app.model.workspace import SceneFiles
 
@@ -118,7 +118,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         _finite("the altitude", metres)
         if not 1 <= metres <= MAX_ALTITUDE:
             raise CommandError(f"the altitude must be within 1..{MAX_ALTITUDE:g} m, got {metres:g}")
-        return clamp_altitude(metres)
+        return metres
 
     @reg.command("camera.alt", "metres:float", f"Put the camera at this altitude (1..{MAX_ALTITUDE:g} m; the "
                  "layer lies between 1500 and 5500)")

@@ -108,7 +108,7 @@ class CloudRenderer:
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._targets: dict[str, Target] = {}
         self.frame_index = 0
-        self._key = None           # what the histories were made with, but the camera's turn
+        self._key = None           # what the histories were made with: all but the clock
         self._resolved = None      # the last resolved buffer (reprojection)
         self._taa = None           # the last TAA output
         self.taa_frames = 0
@@ -138,8 +138,7 @@ class CloudRenderer:
 
     # ---- a frame ------------------------------------------------------------------------------------
 
-    def render(self, fbo: moderngl.Framebuffer, frame: Frame, weather, settings: CloudRenderSettings, noise,
-               debug: int | None = None) -> None:
+    def render(self, fbo: moderngl.Framebuffer, frame: Frame, weather, settings: CloudRenderSettings, noise) -> None:
         """Draw one frame of the clouds into `fbo` (`weather`: the WeatherBlend; `noise`: NoiseTextures)."""
         if self.textures is None:
             self.textures = CloudTexturesGL(self.ctx, noise)
@@ -163,7 +162,7 @@ class CloudRenderer:
             self.taa_frames = 0
         self.last_clouds = clouds
         composite = dict(values, u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8,
-                         u_debug=int(settings.debug_samples) if debug is None else debug)
+                         u_debug=int(settings.debug_samples))
         clouds.use(7)
         self.last_lookups.textures[1].use(8)
         self._draw("clouds_composite", fbo, composite)
@@ -209,8 +208,10 @@ class CloudRenderer:
         return out.textures[0]
 
     def settling(self, settings: CloudRenderSettings) -> bool:
-        """Whether more frames of an unchanged scene still change the image (the histories fill)."""
-        return (settings.taa and self.taa_frames < TAA_FRAMES) or (settings.reproject and self.reprojected_frames < 16)
+        """Whether more frames of an unchanged scene still change the image (the histories fill). TAA has
+        something to average only while the jitter moves, which it does not under reprojection."""
+        averaging = settings.taa and settings.jitter and not settings.reproject
+        return (averaging and self.taa_frames < TAA_FRAMES) or (settings.reproject and self.reprojected_frames < 16)
 
     def lookups(self, size: tuple[int, int], frame: Frame, settings: CloudRenderSettings) -> float:
         """Texture lookups per output pixel of the last frame: the cloud buffer's (shared by the pixels it

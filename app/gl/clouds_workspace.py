@@ -7,7 +7,7 @@ from dataclasses import replace
 from app.gl.clouds import CloudRenderer
 from app.gl.renderer_base import WorkspaceRendererBase
 from app.io.cloud_textures import noise_textures
-from app.model.clouds import CloudRenderSettings, frame
+from app.model.clouds import CloudRenderSettings
 
 INTERACTIVE_DOWNSAMPLE = 4
 
@@ -28,8 +28,7 @@ class CloudsWorkspaceRenderer(WorkspaceRendererBase):
         if interactive:  # while the view moves: a quarter-size buffer, no histories; the full frame after
             settings = replace(settings, downsample=max(settings.downsample, INTERACTIVE_DOWNSAMPLE), taa=False,
                                reproject=False)
-        self.clouds.render(fbo, frame(state.params, state.view, state.wind_time, state.blend()), state.weather,
-                           settings, noise)
+        self.clouds.render(fbo, state.frame(), state.weather, settings, noise)
         self._settling = not interactive and self.clouds.settling(settings)
         return interactive
 

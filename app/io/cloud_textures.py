@@ -42,10 +42,6 @@ def noise_dir() -> Path:
     return cache_root() / "noise"
 
 
-def is_loaded(cache_dir: Path | None = None) -> bool:
-    return (cache_dir or noise_dir()) in _loaded
-
-
 def noise_textures(progress: Progress | None = None, cache_dir: Path | None = None) -> NoiseTextures:
     """The textures, from this process's copy, else the disk cache, else built (reporting `progress`)."""
     folder = cache_dir or noise_dir()

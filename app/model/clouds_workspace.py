@@ -8,7 +8,7 @@ from typing import Callable
 import numpy as np
 
 from app.model.cloud_weather import WeatherBlend, weather_map
-from app.model.clouds import PARAMS, CloudParams, CloudView
+from app.model.clouds import PARAMS, CloudParams, CloudView, Frame, frame
 from app.model.history import SnapshotHistory
 from app.model.workspace import Workspace, short_hash
 
@@ -50,6 +50,10 @@ class CloudsWorkspace(Workspace):
 
     def blend(self) -> float:
         return self.weather.weight(self.clock) if self._weather is not None else 1.0
+
+    def frame(self) -> Frame:
+        """The constants of the frame the state shows now (both renderers draw from them)."""
+        return frame(self.params, self.view, self.wind_time, self.blend())
 
     # ---- time ---------------------------------------------------------------------------------------
 

@@ -6,7 +6,7 @@ import time
 
 from PySide6.QtCore import Qt, QTimer
 
-from app.model.clouds import FOV_Y_DEG, MAX_ALTITUDE, clamp_altitude
+from app.model.clouds import FOV_Y_DEG, clamp_altitude
 from app.views.tool import ViewportTool
 
 CLIMB = 1.2        # altitude factor per wheel notch
@@ -40,7 +40,7 @@ class CloudsTool(ViewportTool):
     def wheel(self, event) -> None:
         notches = event.angleDelta().y() / 120
         altitude = clamp_altitude(self.state.view.altitude * CLIMB ** notches)
-        if altitude != self.state.view.altitude and altitude <= MAX_ALTITUDE:
+        if altitude != self.state.view.altitude:
             self.run(f"camera.alt {altitude:.1f}")
 
     def _tick(self) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
-from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QProgressDialog, QStackedWidget
+from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QProgressDialog, QStackedWidget
 
 from app.console import files
 from app.editor import Editor
@@ -152,22 +152,26 @@ class MainWindow(QMainWindow):
         self.bench.show_workspace(name)
 
     def _prepare(self, name: str) -> None:
-        """What the workspace's renderer makes once (noise textures): a progress bar if it takes a while."""
-        dialog = QProgressDialog("Preparing the workspace...", "", 0, 1000, self, minimumDuration=300)
-        dialog.setCancelButton(None)
-        dialog.setWindowModality(Qt.WindowModality.WindowModal)
+        """What the workspace's renderer makes once (noise textures), with a progress bar while something is
+        made (the dialog exists only then: loading from the cache reports only finished parts)."""
+        dialogs: list[QProgressDialog] = []
 
         def progress(what: str, fraction: float) -> None:
-            dialog.setLabelText(f"Making the {what} texture (once: it is cached)")
-            dialog.setValue(int(fraction * 999))
-            QApplication.processEvents()
-        self.viewport.preparing = True  # the dialog processes events: no frame of a workspace half made
+            if not dialogs and fraction < 1.0:
+                dialogs.append(QProgressDialog("", "", 0, 1000, self, minimumDuration=300))
+                dialogs[0].setCancelButton(None)
+                dialogs[0].setWindowModality(Qt.WindowModality.WindowModal)
+            if dialogs:
+                dialogs[0].setLabelText(f"Making the {what} texture (once: it is cached)")
+                dialogs[0].setValue(int(fraction * 999))  # a modal dialog processes events here
+        self.viewport.preparing = True  # events are processed: no frame of a workspace half made
         try:
             RENDERERS[name].prepare(progress)
         finally:
             self.viewport.preparing = False
-            dialog.reset()
-            dialog.deleteLater()
+            for dialog in dialogs:
+                dialog.reset()
+                dialog.deleteLater()
 
     def _gl_ready(self, renderer: str) -> None:
         self.gl_label.setText(renderer)
