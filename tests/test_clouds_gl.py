@@ -192,3 +192,13 @@ def test_weather_maps_are_uploaded_only_when_they_change(host):
     from app.model.cloud_weather import weather_map
     state.new_weather(weather_map(7, 256), "new 7")
     assert textures.sync_weather(state.weather) == 2
+
+
+def test_a_renderer_shown_another_state_uploads_its_weather(host):
+    """Two states whose blends went through as many changes: the second's maps are not taken for the first's."""
+    from app.model.cloud_weather import weather_map
+    first, second = sky(pitch=20.0), sky(pitch=20.0)
+    first.new_weather(weather_map(3, 256), "new 3")
+    second.new_weather(weather_map(4, 256), "new 4")
+    draw(host, first)
+    assert host.renderers["clouds"].clouds.textures.sync_weather(second.weather) == 2

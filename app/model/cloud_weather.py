@@ -7,6 +7,8 @@ map is a window onto endless noise, shown with mirrored wrapping).
 """
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from app.model.cloud_noise import Progress, _check_size, _Steps, simplex, smoothstep, worley
@@ -110,6 +112,11 @@ def resample(weather: np.ndarray, size: int) -> np.ndarray:
     return _resample_axis(_resample_axis(a, size, 0), size, 1).astype(np.float32)
 
 
+# Versions are drawn from one counter, so a renderer shown another workspace state's blend never takes its
+# maps for the ones it holds.
+_VERSIONS = itertools.count(1)
+
+
 class WeatherBlend:
     """The old and the new weather map and the new one's weight in time, rising linearly from 0 to 1 over the
     blend; the renderer draws mix(old, new, weight(clock)). Maps are read-only float32 copies of one shape."""
@@ -119,7 +126,7 @@ class WeatherBlend:
         self._old = self._new
         self._start = 0.0
         self._duration = 0.0
-        self._version = 0
+        self._version = next(_VERSIONS)
 
     @staticmethod
     def _checked(weather: np.ndarray, shape: tuple[int, ...] | None) -> np.ndarray:
@@ -138,7 +145,8 @@ class WeatherBlend:
 
     @property
     def version(self) -> int:
-        """Changes whenever the maps do: a renderer uploads them again when it differs from the one it has."""
+        """Changes whenever the maps do, and no two blends share one: a renderer uploads the maps again when
+        it differs from the one it has (whichever blend that came from)."""
         return self._version
 
     def weight(self, clock: float) -> float:
@@ -166,7 +174,7 @@ class WeatherBlend:
     def restore(self, state: tuple) -> None:
         """Put back what snapshot() gave, under a new version: a renderer holding any earlier version uploads."""
         self._old, self._new, self._start, self._duration = state
-        self._version += 1
+        self._version = next(_VERSIONS)
 
     def begin(self, new_map: np.ndarray, clock: float, duration: float) -> None:
         """Blend to new_map from time clock over duration seconds (0: at once). During a blend the old map
@@ -179,4 +187,4 @@ class WeatherBlend:
         self._new = new
         self._start = float(clock)
         self._duration = float(duration)
-        self._version += 1
+        self._version = next(_VERSIONS)
