@@ -85,7 +85,7 @@ def test_registered_for_the_cli_and_the_workspace_dock():
 
 def test_stages_add_each_optimisation_in_figure_39s_order():
     labels = [label for label, _method, _s in clouds.stages()]
-    assert labels == ["none", "+ early exit", "+ big steps", "+ light skip", "+ detail skip", "+ buffer 1/2",
+    assert labels == ["none", "+ early exit", "+ big steps", "+ light skip", "+ detail skip", "+ buffer 1/4",
                       "+ jitter+TAA", "+ reprojection"]
     settings = [s for _l, _m, s in clouds.stages()]
     assert settings[0] == clouds.NONE and settings[-1] == clouds.ALL

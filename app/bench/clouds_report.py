@@ -201,6 +201,50 @@ def settings_section(rows: list[Row], plan, interleaved: dict | None) -> tuple[l
     return text, verdicts
 
 
+TURN_DEGREES = (0.5, 2.0, 6.0)  # a frame's turn of the camera
+TURN_FRAMES = 4
+
+
+def turns(bench, ctx) -> list[tuple[int, float, float, float]]:
+    """Reprojection through a turn: (d, degrees a frame, mean error of the reprojected picture, of the bilinear
+    buffer alone) against a full trace of the view turned to, after TURN_FRAMES frames of turning."""
+    plan, scene = bench.plan, bench.scene
+    size, steps = plan.settings_size, plan.settings_steps[0]
+    start, out = scene.view, []
+    for down in (2, 4):
+        settings = replace(NONE, steps=steps, downsample=down, reproject=True)
+        for degrees in TURN_DEGREES:
+            scene.view = start
+            state, fresh = CloudState(ctx, bench.shared), CloudState(ctx, bench.shared)
+            state.steady(scene, settings, size)
+            for _ in range(TURN_FRAMES):
+                scene.view = replace(scene.view, yaw=scene.view.yaw + degrees)
+                state.draw(scene, settings, size)
+            shown = state.image(size)
+            fresh.draw(scene, settings, size)  # no history: the bilinear buffer
+            bilinear = fresh.image(size)
+            fresh.draw(scene, replace(settings, downsample=1), size)
+            truth = fresh.image(size)
+            out.append((down, degrees, float(np.abs(shown - truth).mean()), float(np.abs(bilinear - truth).mean())))
+            for s in (state, fresh):
+                for t in s.targets.values():
+                    t.release()
+    scene.view = start
+    return out
+
+
+def turn_section(measured, plan) -> list[str]:
+    """Measure 6: reprojection keeps its history through a turn; is it better than the buffer alone?"""
+    w, h = plan.settings_size
+    text = ["## 6. Reprojection through a turn", "",
+            f"{w}x{h}, {plan.settings_steps[0]} steps, no other optimisation: after a still view's history is full, "
+            f"{TURN_FRAMES} frames turning the camera; the mean error (1/255) of the picture shown against a full "
+            "trace of the view turned to, beside that of this frame's buffer stretched bilinear (what a restarted "
+            "history shows).", ""]
+    lines = [[f"{d}", f"{deg:g}", e255(shown), e255(bilinear)] for d, deg, shown, bilinear in measured]
+    return text + table(["d", "degrees a frame", "reprojected", "bilinear buffer"], lines)
+
+
 def integration_section(rows: list[Row], plan) -> list[str]:
     """Measure 5: the seed's alpha-per-sample integration beside the energy one, against the reference."""
     text = ["## 5. The `seed` integration beside `energy`", "",
@@ -217,7 +261,8 @@ def integration_section(rows: list[Row], plan) -> list[str]:
                          "seed max, CPU seed at the same steps"], lines)
 
 
-def report(rows: list[Row], plan, interleaved: dict | None = None, renderer: str = "") -> tuple[str, list[str]]:
+def report(rows: list[Row], plan, interleaved: dict | None = None, renderer: str = "",
+           turned: list | None = None) -> tuple[str, list[str]]:
     """The markdown report and its verdict lines."""
     s1, v1 = reference_section(rows, plan)
     s3, v3 = stage_section(rows, plan)
@@ -225,7 +270,8 @@ def report(rows: list[Row], plan, interleaved: dict | None = None, renderer: str
     verdicts = v1 + v4 + v3
     head = ["# Clouds bench", "", f"Measured on {renderer or 'an unnamed GL renderer'}.", "",
             *[f"- {v}" for v in verdicts], ""]
-    body = [*s1, "", *buffer_section(rows, plan), "", *s3, "", *s4, "", *integration_section(rows, plan), ""]
+    body = [*s1, "", *buffer_section(rows, plan), "", *s3, "", *s4, "", *integration_section(rows, plan), "",
+            *(turn_section(turned, plan) + [""] if turned else [])]
     return "\n".join(head + body), verdicts
 
 
@@ -292,7 +338,8 @@ def write(bench, ctx, out: Path, rows: list[Row], progress: Callable[[str], None
     charts = write_charts(rows, plan, out)
     progress(f"timing none and all interleaved ({plan.interleaved_rounds} rounds)")
     interleaved = interleave(bench, ctx, plan.interleaved_rounds) if plan.interleaved_rounds > 0 else None
-    text, _verdicts = report(rows, plan, interleaved, ctx.info.get("GL_RENDERER", ""))
+    progress("reprojection through a turn")
+    text, _verdicts = report(rows, plan, interleaved, ctx.info.get("GL_RENDERER", ""), turns(bench, ctx))
     write_text(out / "clouds-report.md", text)
     progress(text)
     progress(f"wrote {len(images)} sample-count images, {', '.join(p.name for p in charts)}, clouds-samples.md and "

@@ -27,7 +27,8 @@ SWITCHES = (  # (cvar, settings field, panel label, help)
     ("r_cloudLightSkip", "light_skip", "Light skip", "march towards the sun only where the density is above 0"),
     ("r_cloudDetailSkip", "detail_skip", "Detail skip",
      "detail and curl only inside the shape; nothing where coverage is 0"),
-    ("r_cloudReproject", "reproject", "Reprojection", "trace one pixel of each 4x4 block a frame, keep the rest"),
+    ("r_cloudReproject", "reproject", "Reprojection",
+     "trace one pixel of each r_cloudDownsample^2 block a frame, reproject the rest"),
     ("r_cloudDebugSamples", "debug_samples", "Sample count view",
      "show texture lookups per pixel, black 0 .. white 1000"),
 )

@@ -25,9 +25,9 @@ class CloudsWorkspaceRenderer(WorkspaceRendererBase):
     def render(self, fbo, state, settings: CloudRenderSettings, interactive: bool = False) -> bool:
         # Hosts call prepare() first, with a progress bar; one that did not waits for the textures here.
         noise = noise_textures()
-        if interactive:  # while the view moves: a quarter-size buffer, no histories; the full frame after
-            settings = replace(settings, downsample=max(settings.downsample, INTERACTIVE_DOWNSAMPLE), taa=False,
-                               reproject=False)
+        if interactive:  # while the view moves: a quarter-size buffer, reprojected through the turn if the
+            # settings reproject, with no TAA; the full frame after
+            settings = replace(settings, downsample=max(settings.downsample, INTERACTIVE_DOWNSAMPLE), taa=False)
         self.clouds.render(fbo, state.frame(), state.weather, settings, noise)
         self._settling = not interactive and self.clouds.settling(settings)
         return interactive

@@ -323,6 +323,6 @@ class CloudRenderSettings:
     big_steps: bool = True        # 3 steps at once after 10 empty samples, one back on a hit
     light_skip: bool = True       # the light march only where the density is above 0
     detail_skip: bool = True      # detail and curl only where the shape is above 0, nothing where coverage is 0
-    reproject: bool = False       # trace one pixel of each 4x4 block a frame, keep the rest (still views)
+    reproject: bool = True        # trace one pixel of each downsample^2 block a frame, reproject the rest
     debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
     integration: str = "energy"   # or "seed"

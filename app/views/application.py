@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+import time
 from pathlib import Path
 
 from PySide6.QtCore import QTimer
@@ -13,6 +14,7 @@ from PySide6.QtWidgets import QApplication
 from app.gl.headless import SAMPLES
 
 SCREENSHOT_DELAY_MS = 1500  # let docks settle and the first frames land
+SCREENSHOT_WAIT_MS = 60000  # then wait for the picture to settle (temporal histories), at most this long
 
 
 def set_surface_format() -> None:
@@ -55,5 +57,13 @@ def run_editor(argv: list[str]) -> int:
         window.run(line)
     window.show()
     if args.screenshot:
-        QTimer.singleShot(SCREENSHOT_DELAY_MS, lambda: (window.grab().save(args.screenshot), app.quit()))
+        deadline = time.monotonic() + (SCREENSHOT_DELAY_MS + SCREENSHOT_WAIT_MS) / 1e3
+
+        def shoot() -> None:
+            if window.viewport.settled() or time.monotonic() > deadline:
+                window.grab().save(args.screenshot)
+                app.quit()
+            else:
+                QTimer.singleShot(100, shoot)
+        QTimer.singleShot(SCREENSHOT_DELAY_MS, shoot)
     return app.exec()

@@ -95,6 +95,12 @@ class Viewport(QOpenGLWidget):
         self.frame_ms.append(ms)
         self.frame_rendered.emit(ms)
 
+    def settled(self) -> bool:
+        """Whether the picture shown is final: nothing being prepared, no full frame owed after an interaction,
+        no temporal history still filling."""
+        busy = self.preparing or self._idle_timer.isActive()
+        return not busy and (self.renderer is None or not self.renderer.settling())
+
     def update_full(self) -> None:
         """Ask for a frame that is not part of an interaction (time passing, a history filling): drawn at
         full quality however soon it follows the last."""
