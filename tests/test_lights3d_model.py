@@ -17,6 +17,8 @@ from app.model.lights3d import Light3D, Lights3DCamera, Lights3DError, Object3D,
     (dict(kind="box", size=(1, -2, 3)), "box sy must be > 0"),
     (dict(kind="box", size=(1, math.inf, 3)), "must be finite"),
     (dict(kind="box", size="abc"), "must be 3 numbers"),
+    (dict(kind="box", size="123"), "must be 3 numbers, got '123'"),
+    (dict(kind="box", size=(1, "2", None)), "must be 3 numbers"),
     (dict(kind="sphere", size=(10, 12.5)), "sphere segments must be a whole number within 3..1024, got 12.5"),
     (dict(kind="sphere", size=(10, 2)), "sphere segments must be a whole number"),
     (dict(kind="sphere", size=(10, 1000)), "a sphere of 998000 triangles is more than 200000"),
@@ -65,7 +67,7 @@ def test_an_objects_world_mesh_is_cached_and_centred_on_its_position():
     assert mesh.positions[:, 1].min() == 0.0  # resting on the ground
     moved = Object3D("box", (20, 30, 40), (50, 15, 0))
     assert moved.mesh().triangles is mesh.triangles  # the local mesh is built once per kind and size
-    assert box.closed and not Object3D("plane", (400,), (0, 0, 0)).closed
+    assert mesh.closed and not Object3D("plane", (400,), (0, 0, 0)).mesh().closed  # the ground casts nothing
 
 
 def test_scene_edits_return_a_new_scene_and_leave_the_old_one():
@@ -133,7 +135,7 @@ def test_default_scene_holds_the_seeds_lights_and_grounded_objects():
     for obj in scene.objects[1:]:
         lo, hi = obj.mesh().positions.min(0), obj.mesh().positions.max(0)
         assert lo[1] == pytest.approx(0.0, abs=1e-9)  # standing on the ground
-        assert 15 <= (hi - lo).max() <= 60 and obj.closed
+        assert 15 <= (hi - lo).max() <= 60 and obj.mesh().closed
 
 
 # ---- the light formulas ---------------------------------------------------------------------------------

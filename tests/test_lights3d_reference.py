@@ -56,13 +56,24 @@ def blocked_brute(tris, light, points, own, scale):
     return np.bincount(ray[hit], minlength=len(points)) > 0
 
 
-@pytest.mark.parametrize("camera", [
-    Lights3DCamera(),
-    Lights3DCamera(yaw=-60.0, pitch=8.0, distance=40.0, target=(0.0, 5.0, 0.0)),  # the ground runs behind the eye
-    Lights3DCamera(yaw=10.0, pitch=20.0, distance=20.0, target=(-25.0, 15.0, 0.0)),  # inside the box
+AWKWARD_LIGHTS = (  # on the corners, faces and planes where the cube map's depths are 0
+    Light3D("point", (10.0, 36.0, 0.0), range=300.0),            # on the sphere's top pole
+    Light3D("point", (-10.0, 15.0, 0.0), range=300.0),           # on the box's face, level with its middle
+    Light3D("spot", (-25.0, 30.0, 15.0), (1.0, -1.0, 0.0), angle=60.0),  # on the box's top edge
+    Light3D("point", (-25.0, 15.0, 0.0), range=300.0),           # inside the box
+)
+
+
+@pytest.mark.parametrize("camera, lights", [
+    (Lights3DCamera(), ()),
+    (Lights3DCamera(yaw=-60.0, pitch=8.0, distance=40.0, target=(0.0, 5.0, 0.0)), ()),  # the ground behind the eye
+    (Lights3DCamera(yaw=10.0, pitch=20.0, distance=20.0, target=(-25.0, 15.0, 0.0)), ()),  # inside the box
+    (Lights3DCamera(yaw=-20.0, pitch=25.0, distance=150.0), AWKWARD_LIGHTS),
 ])
-def test_binning_is_exact(camera):
+def test_binning_is_exact(camera, lights):
     scene = small_scene()
+    if lights:
+        scene = Scene3D(scene.objects, lights)
     w, h = 48, 27
     result = ref.render(scene, camera, (w, h))
     tris = ref.Triangles.of(scene)
@@ -232,11 +243,13 @@ def test_ground_colour_by_hand():
 def test_the_default_scene_casts_shadows_on_the_ground_and_on_objects():
     scene = default_scene()
     result = ref.render(scene, Lights3DCamera(), (160, 90))
-    ground, objects = result.object_id == 0, result.object_id > 0
+    # the sphere (object 2) shades the box (object 1): without it, those box pixels see the light
+    no_sphere = ref.render(scene.remove_object(2), Lights3DCamera(), (160, 90))
+    ground, box = result.object_id == 0, (result.object_id == 1) & (no_sphere.object_id == 1)
     for i in range(len(scene.lights)):
         shadow = result.facing[i] & ~result.visible[i]
         assert (shadow & ground).sum() > 50, f"light {i} shadows the ground"
-        assert (shadow & objects).sum() > 5, f"light {i} shadows an object"
+        assert (shadow & box & no_sphere.visible[i]).sum() > 5, f"light {i} shadows the box by the sphere"
         assert (result.facing[i] & result.visible[i] & ground).sum() > 200
     background = result.object_id < 0
     np.testing.assert_array_equal(result.rgb[background], np.tile(lm.BACKGROUND, (background.sum(), 1)))

@@ -3,9 +3,12 @@ whole with a message naming the field, before any scene is made."""
 import json
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from app.io import json_file, lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
+from app.model import lights3d as lm
 from app.model.lights3d import Light3D, Object3D, Scene3D, default_scene
 
 
@@ -25,6 +28,35 @@ def test_round_trip(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["scene.json"]  # written atomically: no temporary left
     lights3d_scene.save(path, default_scene())  # over an existing file
     assert lights3d_scene.load(path) == default_scene()
+
+
+UNIT = st.floats(0.0, 1.0)
+COORD = st.floats(-1e5, 1e5)
+OBJECTS = st.one_of(
+    st.builds(Object3D, st.just("box"), st.tuples(*[st.floats(0.01, 1e4)] * 3), st.tuples(COORD, COORD, COORD),
+              st.tuples(UNIT, UNIT, UNIT)),
+    st.builds(Object3D, st.just("sphere"), st.tuples(st.floats(0.01, 1e4), st.integers(3, 40)),
+              st.tuples(COORD, COORD, COORD)),
+    st.builds(lambda major, ratio, n, m: Object3D("torus", (major, major * ratio, n, m)),
+              st.floats(0.1, 1e4), st.floats(0.01, 0.99), st.integers(3, 40), st.integers(3, 40)),
+    st.builds(lambda sx, sy, sz, r: Object3D("lprism", (sx, sy, sz, r * min(sx, sy))),
+              *[st.floats(0.1, 1e4)] * 3, st.floats(0.01, 0.99)),
+    st.builds(Object3D, st.just("plane"), st.tuples(st.floats(0.01, 1e4))),
+)
+LIGHTS = st.builds(Light3D, st.sampled_from(lm.LIGHT_KINDS), st.tuples(COORD, COORD, COORD),
+                   st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(0.01, 1)),
+                   st.tuples(*[st.floats(0, lm.MAX_INTENSITY)] * 3), st.floats(1e-3, lm.MAX_SIZE),
+                   st.floats(1e-3, lm.MAX_FALLOFF), st.floats(0.01, 89.99), st.sampled_from(lm.SHADOW_METHODS))
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(OBJECTS, max_size=6), st.lists(LIGHTS, max_size=lm.MAX_LIGHTS), st.tuples(UNIT, UNIT, UNIT),
+       st.floats(1e-3, lm.MAX_SHININESS), st.floats(0, lm.MAX_SPECULAR))
+def test_whatever_the_model_holds_saves_and_loads_equal(tmp_path, objects, lights, ambient, shininess, specular):
+    scene = Scene3D(tuple(objects), tuple(lights), ambient, shininess, specular)
+    path = tmp_path / "any.json"
+    lights3d_scene.save(path, scene)
+    assert lights3d_scene.load(path) == scene
 
 
 def test_optional_fields_take_the_models_defaults(tmp_path):

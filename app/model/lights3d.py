@@ -76,6 +76,8 @@ class Lights3DError(ValueError):
 
 def _floats(name: str, values, count: int) -> tuple[float, ...]:
     try:
+        if isinstance(values, (str, bytes)):  # "123" would pass as three digits
+            raise TypeError
         out = tuple(float(v) for v in values)
     except (TypeError, ValueError):
         raise Lights3DError(f"{name} must be {count} numbers, got {values!r}") from None
@@ -173,11 +175,6 @@ class Object3D:
         colour = _floats(f"{kind} colour", self.colour, 3)
         _within(f"{kind} colour", colour, 0.0, 1.0)
         object.__setattr__(self, "colour", colour)
-
-    @property
-    def closed(self) -> bool:
-        """Whether it casts shadows (every kind but the open ground plane)."""
-        return self.kind != "plane"
 
     @property
     def triangles(self) -> int:

@@ -264,7 +264,8 @@ def primary_rays(camera: OrbitCamera, width: int, height: int) -> tuple[np.ndarr
 
 
 def _primary(tris: Triangles, camera: OrbitCamera, width: int, height: int):
-    """(triangle (H*W,) -1 for none, t, u, v, pairs tested)."""
+    """(each pixel's triangle or -1, its (t, u, v), the eye, pairs tested): the nearest hit within the clip
+    planes."""
     origin, dirs = primary_rays(camera, width, height)
     view = camera.view()
     forward = -view[2, :3]
@@ -285,13 +286,42 @@ def _primary(tris: Triangles, camera: OrbitCamera, width: int, height: int):
         pick = order[first]
         best_tri[ray[pick]] = tri[pick]
         best[ray[pick]] = np.stack([t[pick], u[pick], v[pick]], 1)
-    return best_tri, best, origin, dirs, pairs
+    return best_tri, best, origin, pairs
+
+
+def _sun_bins(corners: np.ndarray, points: np.ndarray, toward: np.ndarray, scale: float):
+    """(cells, their triangles, each point's cell or -1, cell count) on a grid across a directional light: a
+    ray towards the light projects to one point, a triangle to its box; the grid spans the casters."""
+    e1 = np.cross(toward, np.eye(3)[np.argmin(np.abs(toward))])
+    e1 /= np.linalg.norm(e1)
+    basis = np.stack([e1, np.cross(toward, e1)], 1)
+    flat, at = corners @ basis, points @ basis
+    lo, hi = flat.reshape(-1, 2).min(0), flat.reshape(-1, 2).max(0)
+    n = _cube_size(len(corners))
+    cell = np.maximum(hi - lo, 1e-9 * scale) / n
+    x0, y0 = np.floor((flat.min(1) - lo) / cell - CELL_MARGIN).astype(np.int64).T
+    x1, y1 = np.minimum(np.floor((flat.max(1) - lo) / cell + CELL_MARGIN), n - 1).astype(np.int64).T
+    cells, cell_tris = _rect_cells(np.maximum(x0, 0), x1, np.maximum(y0, 0), y1, n, 0)
+    ij = np.minimum(np.floor((at - lo) / cell), n - 1).astype(np.int64)
+    inside = ((at >= lo) & (at <= hi)).all(1)  # outside, a ray passes every caster by
+    return cells, cell_tris, np.where(inside, ij[:, 1] * n + ij[:, 0], -1), n * n
+
+
+def _cube_map_bins(corners: np.ndarray, points: np.ndarray, position: np.ndarray):
+    """(cells, their triangles, each point's cell or -1, cell count) on a cube map around a point or spot
+    light: a segment from the light has one direction, a triangle covers the cells of its projection."""
+    n = _cube_size(len(corners))
+    cells, cell_tris = _cube_bins(corners - position, n)
+    away = points - position
+    at_light = (away == 0).all(1)  # a zero-length segment: nothing in between
+    ray_cells = np.where(at_light, -1, _cube_cells(np.where(at_light[:, None], 1.0, away), n))
+    return cells, cell_tris, ray_cells, 6 * n * n
 
 
 def _shadow_rays(tris: Triangles, light: lm.Light3D, points: np.ndarray, own: np.ndarray, scale: float
                  ) -> tuple[np.ndarray, int]:
     """(blocked (R,), pairs tested): whether the segment from each point to the light (the ray towards a
-    directional light) hits a caster's triangle other than the point's own."""
+    directional light) hits a caster's triangle other than the point's own, SELF_EPS x scale off both ends."""
     blocked = np.zeros(len(points), bool)
     casters = np.flatnonzero(tris.casts)
     if len(casters) == 0 or len(points) == 0:
@@ -299,39 +329,18 @@ def _shadow_rays(tris: Triangles, light: lm.Light3D, points: np.ndarray, own: np
     corners = tris.corners()[casters]
     if light.kind == "directional":
         toward = -np.asarray(light.direction)
-        axis = np.eye(3)[np.argmin(np.abs(toward))]
-        e1 = np.cross(toward, axis)
-        e1 /= np.linalg.norm(e1)
-        e2 = np.cross(toward, e1)
-        basis = np.stack([e1, e2], 1)
-        flat, at = corners @ basis, points @ basis
-        lo, hi = flat.reshape(-1, 2).min(0), flat.reshape(-1, 2).max(0)
-        n = _cube_size(len(casters))
-        cell = np.maximum(hi - lo, 1e-9 * scale) / n
-        x0, y0 = (np.floor((flat.min(1) - lo) / cell - CELL_MARGIN)).astype(np.int64).T
-        x1, y1 = (np.minimum(np.floor((flat.max(1) - lo) / cell + CELL_MARGIN), n - 1)).astype(np.int64).T
-        cells, cell_tris = _rect_cells(np.maximum(x0, 0), x1, np.maximum(y0, 0), y1, n, 0)
-        ij = np.floor((at - lo) / cell).astype(np.int64)
-        inside = ((at >= lo) & (at <= hi)).all(1)
-        ray_cells = np.where(inside, np.minimum(ij[:, 1], n - 1) * n + np.minimum(ij[:, 0], n - 1), -1)
-        n_cells = n * n
+        cells, cell_tris, ray_cells, n_cells = _sun_bins(corners, points, toward, scale)
         directions = np.broadcast_to(toward, points.shape)
         t_lo, t_hi = np.full(len(points), SELF_EPS * scale), np.full(len(points), np.inf)
     else:
-        lp = np.asarray(light.position)
-        n = _cube_size(len(casters))
-        cells, cell_tris = _cube_bins(corners - lp, n)
-        away = points - lp
-        length = np.linalg.norm(away, axis=1)
-        ray_cells = np.where(length > 0, _cube_cells(np.where(length[:, None] > 0, away, 1.0), n), -1)
-        n_cells = 6 * n * n
-        directions = -away
-        t_lo = SELF_EPS * scale / np.maximum(length, 1e-300)
+        cells, cell_tris, ray_cells, n_cells = _cube_map_bins(corners, points, np.asarray(light.position))
+        directions = np.asarray(light.position) - points  # t = 1 at the light
+        t_lo = SELF_EPS * scale / np.maximum(np.linalg.norm(directions, axis=1), 1e-300)
         t_hi = 1.0 - t_lo
     pairs = 0
     for ray, k in _pairs(cells, cell_tris, ray_cells, n_cells):
         tri = casters[k]
-        other = tri != own[ray]
+        other = tri != own[ray]  # a point never shadows itself on its own triangle
         ray, tri = ray[other], tri[other]
         pairs += len(ray)
         hit, t, _, _ = intersect(tris, tri, points[ray], directions[ray])
@@ -349,7 +358,7 @@ def render(scene: Scene3D, camera: OrbitCamera, size: tuple[int, int]) -> Result
     """The scene seen by `camera` at size (width, height)."""
     width, height = size
     tris = Triangles.of(scene)
-    tri, tuv, origin, dirs, pairs = _primary(tris, camera, width, height)
+    tri, tuv, origin, pairs = _primary(tris, camera, width, height)
     hit = tri >= 0
     k = tri[hit]
     u, v = tuv[hit, 1:2], tuv[hit, 2:3]
