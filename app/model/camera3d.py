@@ -1,8 +1,11 @@
-"""An orbit camera around the origin: yaw and pitch in degrees, a distance, a vertical field of view."""
+"""An orbit camera around a centre (the origin here): yaw and pitch in degrees, a distance, a vertical field of
+view. The distance limits and the clip planes are class attributes, so a workspace of another scale subclasses
+the camera with its own (app/model/lights3d.py: Lights3DCamera)."""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -17,13 +20,23 @@ class OrbitCamera:
     fov: float = 40.0  # vertical, degrees
     shift: float = 0.0  # sideways along the camera's right, world units (one eye of a stereo pair)
 
+    MIN_DISTANCE: ClassVar[float] = 0.5
+    MAX_DISTANCE: ClassVar[float] = 100.0
+    NEAR: ClassVar[float] = 0.05  # clip planes of projection()
+    FAR: ClassVar[float] = 200.0
+
     def __post_init__(self) -> None:
         if not all(math.isfinite(v) for v in (self.yaw, self.pitch, self.distance, self.fov)):
             raise ValueError("camera values must be finite")
-        if not 0.5 <= self.distance <= 100:
-            raise ValueError(f"distance must be within 0.5..100, got {self.distance:g}")
+        if not self.MIN_DISTANCE <= self.distance <= self.MAX_DISTANCE:
+            raise ValueError(f"distance must be within {self.MIN_DISTANCE:g}..{self.MAX_DISTANCE:g}, "
+                             f"got {self.distance:g}")
         if not abs(self.pitch) <= PITCH_LIMIT:
             raise ValueError(f"pitch must be within -{PITCH_LIMIT:g}..{PITCH_LIMIT:g}, got {self.pitch:g}")
+
+    def centre(self) -> np.ndarray:
+        """The point the camera orbits and looks at."""
+        return np.zeros(3)
 
     def _orbit(self) -> np.ndarray:
         yaw, pitch = math.radians(self.yaw), math.radians(self.pitch)
@@ -37,7 +50,7 @@ class OrbitCamera:
         return forward, right, np.cross(right, forward)
 
     def position(self) -> np.ndarray:
-        return self._orbit() + self._axes()[1] * self.shift
+        return self.centre() + self._orbit() + self._axes()[1] * self.shift
 
     def view(self) -> np.ndarray:
         """World -> camera (4x4, row-major numpy): looking along the orbit's direction with +y up (a
@@ -49,7 +62,9 @@ class OrbitCamera:
         m[:3, 3] = -m[:3, :3] @ eye
         return m
 
-    def projection(self, aspect: float, near: float = 0.05, far: float = 200.0) -> np.ndarray:
+    def projection(self, aspect: float, near: float | None = None, far: float | None = None) -> np.ndarray:
+        near = self.NEAR if near is None else near
+        far = self.FAR if far is None else far
         # In a tall view the field of view is kept horizontally, so the volume still fits.
         f = min(1.0, aspect) / math.tan(math.radians(self.fov) / 2)
         m = np.zeros((4, 4))
