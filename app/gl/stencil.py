@@ -5,9 +5,10 @@ PyOpenGL takes its platform from PYOPENGL_PLATFORM once, at its first import (un
 Only core GL 3.3 entry points are used here; PyOpenGL takes those from libOpenGL/libGL, whose libglvnd
 dispatch sends each call to the thread's current context whatever made it (EGL for the headless host, GLX
 for Qt under xcb), so the pointers work under both. What the platform decides is PyOpenGL's own context
-queries (extension checks, per-context data), none of which this module uses: EGL is chosen, for the host
-the tests and `shadelab render` run on, unless the user set a platform or another library imported PyOpenGL
-first. The variable is set only around that import, so child processes never inherit it."""
+queries (extension checks, per-context data), none of which this module uses: on Linux EGL is chosen, for
+the host the tests and `shadelab render` run on, unless the user set a platform or another library imported
+PyOpenGL first (macOS and Windows keep PyOpenGL's own choice: they have no EGL). The variable is set only
+around that import, so child processes never inherit it."""
 from __future__ import annotations
 
 import importlib
@@ -22,7 +23,7 @@ import numpy as np
 
 
 def _import_gl():
-    if "OpenGL.platform" in sys.modules or "PYOPENGL_PLATFORM" in os.environ:
+    if not sys.platform.startswith("linux") or "OpenGL.platform" in sys.modules or "PYOPENGL_PLATFORM" in os.environ:
         return importlib.import_module("OpenGL.GL")
     os.environ["PYOPENGL_PLATFORM"] = "egl"
     try:
