@@ -1,0 +1,142 @@
+"""Shadow volumes into the stencil of a framebuffer whose depth already holds the scene, for one light, and the
+in-shadow mask read back. Three methods:
+
+- onepass (seed 002): the 7-triangle volume of every caster triangle, both faces alike, in one pass: stencil
+  NOTEQUAL ref 0xFC, read and write masks 0xFD, sfail KEEP, zfail INVERT, zpass INCR, depth LESS. Bit 1 is never
+  written, so from 0 a depth pass gives 1 and a second pass 2 & 0xFD = 0 (INCR toggles bit 0); a depth fail
+  gives ~0 & 0xFD = 0xFD and a second one 0 (INVERT toggles 0 <-> 0xFD). One of each, in either order, gives
+  0xFC (1 then INVERT: 0xFE & 0xFD; 0xFD then INCR: 0xFE & 0xFD), which equals the reference under the read
+  mask, so the test fails from then on and nothing un-shadows it. Shadowed: stencil == 0xFC (SHADOW_VALUE).
+  Within one caster triangle's 7 any order gives the same stencil, as the seed claims; the volumes of a mesh's
+  triangles overlap, though, and interleaving their triangles can lock a pixel early (measured in
+  tests/test_shadow_volumes_gl.py), so they are drawn as built, each triangle's 7 together. Like zpass it
+  has no face in front of an eye inside a volume.
+- zpass: the silhouette volume without caps, two-sided: front faces INCR_WRAP, back faces DECR_WRAP where the
+  depth test passes. Wrong where the eye is inside a volume or the near plane cuts one (Everitt & Kilgard), so
+  it is drawn as they describe it, near and far planes clipping.
+- zfail (Carmack's reverse): the capped silhouette volume, back faces INCR_WRAP, front faces DECR_WRAP where the
+  depth test fails; depth clamping stands in for an infinite far plane.
+Shadowed for zpass and zfail: stencil != 0. A pixel the scene left at depth 1 (no surface) is never in shadow.
+
+Depth LESS must fail where a cap or caster triangle lies on the scene's own surface: draw the scene's depth
+with `draw_depth` (the same vertex shader) or a shader declaring `invariant gl_Position` with the same
+`u_view_proj * position`."""
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from app.gl.shadow_volumes import VolumeGeometry, onepass_volume, silhouette_volume
+from app.gl.stencil import GL, StencilOps, StencilState, StencilTarget, clear_stencil, stencil_state
+
+PROGRAM = "shadow_volume"
+SHADOW_VALUE = 0xFC  # onepass: a depth pass and a depth fail met here (see above)
+
+STATES = {
+    "onepass": StencilState(func=GL.GL_NOTEQUAL, ref=SHADOW_VALUE, read_mask=0xFD, write_mask=0xFD,
+                            front=StencilOps(GL.GL_KEEP, GL.GL_INVERT, GL.GL_INCR),
+                            back=StencilOps(GL.GL_KEEP, GL.GL_INVERT, GL.GL_INCR),
+                            depth_clamp=True),  # w = 0 vertices: their depth fails must count, not be clipped
+    "zpass": StencilState(front=StencilOps(GL.GL_KEEP, GL.GL_KEEP, GL.GL_INCR_WRAP),
+                          back=StencilOps(GL.GL_KEEP, GL.GL_KEEP, GL.GL_DECR_WRAP)),
+    "zfail": StencilState(front=StencilOps(GL.GL_KEEP, GL.GL_DECR_WRAP, GL.GL_KEEP),
+                          back=StencilOps(GL.GL_KEEP, GL.GL_INCR_WRAP, GL.GL_KEEP), depth_clamp=True),
+}
+METHODS = tuple(STATES)
+# The scene's depth: stencil untouched (ALWAYS, KEEP, write mask 0), depth written, both faces drawn.
+DEPTH_ONLY = StencilState(write_mask=0, depth_write=True)
+
+
+def _state(method: str) -> StencilState:
+    try:
+        return STATES[method]
+    except KeyError:
+        raise ValueError(f"unknown shadow volume method {method!r}; one of {', '.join(METHODS)}") from None
+
+
+def volume(method: str, positions, triangles, light) -> VolumeGeometry:
+    """The volume `method` draws for one caster mesh and one light."""
+    _state(method)
+    if method == "onepass":
+        return onepass_volume(positions, triangles, light)
+    return silhouette_volume(positions, triangles, light, caps=method == "zfail")
+
+
+def shadowed(method: str, stencil: np.ndarray) -> np.ndarray:
+    """Which stencil values `method` leaves in shadow."""
+    _state(method)
+    return stencil == SHADOW_VALUE if method == "onepass" else stencil != 0
+
+
+@dataclass(frozen=True)
+class ShadowMask:
+    mask: np.ndarray    # bool (height, width), top row first: a surface in shadow of the light
+    triangles: int      # volume triangles drawn (the fill cost's measure)
+    extruded_edges: int
+
+
+class ShadowVolumePass:
+    """Holds the program's vertex buffer (grown as volumes grow); programs belong to the ShaderLibrary."""
+
+    def __init__(self, ctx: moderngl.Context, shaders) -> None:
+        self.ctx, self.shaders = ctx, shaders
+        self._buffer: moderngl.Buffer | None = None
+        self._vao: moderngl.VertexArray | None = None
+        self._vao_program: moderngl.Program | None = None
+
+    def draw_depth(self, fbo: moderngl.Framebuffer, vertices: np.ndarray, view_proj: np.ndarray) -> None:
+        """The scene's depth (triangles as float32 (3 n, 4) vertices, w = 1) into `fbo`, colour untouched."""
+        self._draw(fbo, vertices, view_proj, DEPTH_ONLY)
+
+    def mark(self, fbo: moderngl.Framebuffer, method: str, geometry: VolumeGeometry, view_proj: np.ndarray) -> int:
+        """Draw `geometry` into the stencil of `fbo` (bound and used by this call), in the order its triangles
+        come; returns the triangles drawn. The caller cleared the stencil."""
+        self._draw(fbo, geometry.vertices, view_proj, _state(method))
+        return geometry.triangles
+
+    def shadow_mask(self, target: StencilTarget, method: str, casters: Iterable[tuple[np.ndarray, np.ndarray]],
+                    light, view_proj: np.ndarray) -> ShadowMask:
+        """The casters' (positions, triangles) volumes for `light`, marked in `target`'s stencil (cleared first)
+        over the scene depth already in it, read back."""
+        volumes = [volume(method, positions, triangles, light) for positions, triangles in casters]
+        geometry = VolumeGeometry(np.concatenate([v.vertices for v in volumes] or [np.empty((0, 4), np.float32)]),
+                                  sum(v.extruded_edges for v in volumes))
+        clear_stencil(target.fbo)
+        drawn = self.mark(target.fbo, method, geometry, view_proj)
+        mask = shadowed(method, target.read_stencil()) & (target.read_depth() < 1.0)
+        return ShadowMask(mask, drawn, geometry.extruded_edges)
+
+    def _draw(self, fbo: moderngl.Framebuffer, vertices: np.ndarray, view_proj: np.ndarray,
+              state: StencilState) -> None:
+        vertices = np.ascontiguousarray(vertices, np.float32)
+        if not len(vertices):
+            return
+        program = self.shaders.program(PROGRAM)
+        program["u_view_proj"].value = tuple(np.asarray(view_proj, np.float64).T.flatten())
+        vao = self._vertex_array(program, vertices.nbytes)
+        self._buffer.write(vertices)
+        fbo.use()  # before the state: use() re-applies the framebuffer's colour and depth masks
+        with stencil_state(state):
+            vao.render(moderngl.TRIANGLES, vertices=len(vertices))
+
+    def _vertex_array(self, program: moderngl.Program, nbytes: int) -> moderngl.VertexArray:
+        if self._buffer is None or self._buffer.size < nbytes:
+            size = max(nbytes, 2 * self._buffer.size if self._buffer else 0)  # doubling: few re-allocations
+            self.release()
+            self._buffer = self.ctx.buffer(reserve=size)
+        if self._vao is None or self._vao_program is not program:  # a hot reload makes a new program
+            if self._vao is not None:
+                self._vao.release()
+            self._vao = self.ctx.vertex_array(program, [(self._buffer, "4f", "in_position")])
+            self._vao_program = program
+        return self._vao
+
+    def release(self) -> None:
+        for obj in (self._vao, self._buffer):
+            if obj is not None:
+                obj.release()
+        self._vao = self._vao_program = None
+        self._buffer = None

@@ -1,0 +1,149 @@
+"""Shadow volume geometry (numpy only): the seed's 7 triangles per caster triangle, the silhouette of a box, and
+z-fail volumes closed and facing out, counting the vertices at infinity."""
+import time
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from app.gl.shadow_volumes import facing_light, onepass_volume, silhouette_volume
+from tests.shadow_scenes import box, ground
+
+UNIT_BOX = box((-1, -1, -1), (1, 1, 1))
+POINT_OFF_CORNER = np.array([3.0, 4.0, 5.0, 1.0])
+
+
+def sphere(rings: int, segments: int):
+    """A closed UV sphere: two poles and rings x segments shared vertices, counter-clockwise from outside."""
+    theta = np.linspace(0, np.pi, rings + 2)[1:-1]
+    phi = np.linspace(0, 2 * np.pi, segments, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    ring = np.stack([np.sin(t) * np.cos(p), np.cos(t), -np.sin(t) * np.sin(p)], -1).reshape(-1, 3)
+    positions = np.vstack([[0, 1, 0], ring, [0, -1, 0]])
+    r, s = np.meshgrid(np.arange(rings - 1), np.arange(segments), indexing="ij")
+    a, b = 1 + r * segments + s, 1 + r * segments + (s + 1) % segments
+    c, d = a + segments, b + segments
+    quads = np.concatenate([np.stack([a, c, d], -1).reshape(-1, 3), np.stack([a, d, b], -1).reshape(-1, 3)])
+    s = np.arange(segments)
+    top = np.stack([np.zeros(segments, int), 1 + s, 1 + (s + 1) % segments], -1)
+    last = len(positions) - 1
+    base = 1 + (rings - 1) * segments
+    bottom = np.stack([np.full(segments, last), base + (s + 1) % segments, base + s], -1)
+    return positions, np.concatenate([top, quads, bottom]).astype(np.int32)
+
+
+def signed_volume(corners: np.ndarray) -> float:
+    return float(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum() / 6)
+
+
+def finite(vertices: np.ndarray, light: np.ndarray, reach: float = 1e3) -> np.ndarray:
+    """A point light's volume with each w = 0 vertex (a direction from the light) put at `reach` along it."""
+    v = vertices.astype(np.float64)
+    return np.where(v[:, 3:] == 0, light[:3] + reach * v[:, :3], v[:, :3]).reshape(-1, 3, 3)
+
+
+def directed_edges(vertices: np.ndarray) -> Counter:
+    """Directed edges of the triangles, vertices told apart by all four coordinates (w = 0 ones included)."""
+    keys = [v.tobytes() for v in vertices]
+    tris = [keys[i:i + 3] for i in range(0, len(keys), 3)]
+    return Counter((t[k], t[(k + 1) % 3]) for t in tris for k in range(3))
+
+
+def test_test_meshes_are_closed_and_face_out():
+    for positions, triangles in (UNIT_BOX, sphere(6, 9)):
+        assert signed_volume(positions[triangles]) > 0
+        silhouette_volume(positions, triangles, POINT_OFF_CORNER, caps=True)  # no ValueError: closed
+
+
+def test_onepass_gives_seven_triangles_per_caster_triangle_the_seventh_the_caster():
+    positions, triangles = UNIT_BOX
+    volume = onepass_volume(positions, triangles, POINT_OFF_CORNER)
+    assert volume.vertices.dtype == np.float32 and volume.vertices.shape == (7 * 12 * 3, 4)
+    assert volume.triangles == 7 * len(triangles) and volume.extruded_edges == 3 * len(triangles)
+    groups = volume.vertices.reshape(len(triangles), 7, 3, 4)
+    np.testing.assert_array_equal(groups[:, 0, :, :3], positions[triangles])  # the caster itself, w = 1
+    assert (groups[:, 0, :, 3] == 1).all()
+    at_infinity = groups[:, 1:][groups[:, 1:, :, 3] == 0]
+    assert len(at_infinity) == 12 * 3 * 3  # 3 quads, each with 3 of its 6 vertices at infinity
+    # every w = 0 vertex is a caster corner minus the light: the seed's extrusion away from a point light
+    corners = {tuple(np.float32(p - POINT_OFF_CORNER[:3])) for p in positions}
+    assert {tuple(v[:3]) for v in at_infinity} == corners
+
+
+def test_a_directional_light_sends_every_vertex_to_the_one_point_it_shines_towards():
+    light = np.array([0.3, 1.0, 0.2, 0.0])
+    volume = onepass_volume(*UNIT_BOX, light)
+    far = volume.vertices[volume.vertices[:, 3] == 0]
+    assert np.allclose(far[:, :3], -light[:3])
+
+
+@pytest.mark.parametrize("light, faces, edges", [
+    ((3.0, 4.0, 5.0, 1.0), 3, 6),    # off a corner: three faces lit, a hexagon of silhouette edges
+    ((0.2, 5.0, -0.1, 1.0), 1, 4),   # above the top face: its square
+    ((4.0, 4.0, 0.0, 1.0), 2, 6),    # off an edge: two faces
+    ((0.3, 1.0, 0.2, 0.0), 3, 6),    # a directional light from a corner's side
+])
+def test_box_silhouette_edges(light, faces, edges):
+    positions, triangles = UNIT_BOX
+    assert facing_light(positions, triangles, light).sum() == 2 * faces
+    volume = silhouette_volume(positions, triangles, light, caps=False)
+    assert volume.extruded_edges == edges
+    assert volume.triangles == 2 * edges  # z-pass: the side quads only
+    capped = silhouette_volume(positions, triangles, light, caps=True)
+    assert capped.triangles == 2 * edges + len(triangles)  # every mesh triangle is in one cap or the other
+
+
+@pytest.mark.parametrize("mesh", ["box", "sphere"])
+@pytest.mark.parametrize("light", [(3.0, 4.0, 5.0, 1.0), (0.0, 0.1, 0.0, 1.0)], ids=["outside", "inside"])
+def test_zfail_volumes_are_closed_and_face_out(mesh, light):
+    positions, triangles = UNIT_BOX if mesh == "box" else sphere(6, 9)
+    light = np.array(light)
+    volume = silhouette_volume(positions, triangles, light, caps=True)
+    edges = directed_edges(volume.vertices)
+    assert set(edges.values()) == {1}  # every directed edge once...
+    assert all(edges[(b, a)] == 1 for a, b in edges)  # ...and its reverse once: each edge twice, opposite ways
+    assert signed_volume(finite(volume.vertices, light)) > 0  # faces point out of the volume
+
+
+def test_light_inside_a_closed_mesh_leaves_only_the_dark_cap():
+    positions, triangles = UNIT_BOX
+    volume = silhouette_volume(positions, triangles, (0.0, 0.2, 0.1, 1.0), caps=True)
+    assert volume.extruded_edges == 0 and volume.triangles == len(triangles)
+    assert (volume.vertices[:, 3] == 0).all()
+
+
+def test_silhouette_volumes_refuse_open_and_badly_wound_meshes():
+    with pytest.raises(ValueError, match="not closed"):
+        silhouette_volume(*ground(), POINT_OFF_CORNER, caps=True)
+    positions, triangles = UNIT_BOX
+    flipped = triangles.copy()
+    flipped[0] = flipped[0, ::-1]
+    with pytest.raises(ValueError, match="inconsistent"):
+        silhouette_volume(positions, flipped, POINT_OFF_CORNER, caps=True)
+    onepass_volume(*ground(), POINT_OFF_CORNER)  # one triangle at a time: open meshes are fine
+
+
+@pytest.mark.parametrize("light", [(1, 2, 3, 0.5), (0, 0, 0, 0), (np.nan, 1, 1, 1), (1, 2, 3)])
+def test_bad_lights_are_refused(light):
+    with pytest.raises(ValueError):
+        onepass_volume(*UNIT_BOX, light)
+
+
+def test_bad_meshes_are_refused():
+    positions, triangles = UNIT_BOX
+    with pytest.raises(ValueError, match="index"):
+        onepass_volume(positions, triangles + 8, POINT_OFF_CORNER)
+    with pytest.raises(ValueError, match="finite"):
+        onepass_volume(np.full((8, 3), np.inf), triangles, POINT_OFF_CORNER)
+
+
+def test_a_big_mesh_builds_in_vectorised_time():
+    positions, triangles = sphere(100, 200)  # 40 000 triangles
+    start = time.perf_counter()
+    capped = silhouette_volume(positions, triangles, POINT_OFF_CORNER, caps=True)
+    onepass = onepass_volume(positions, triangles, POINT_OFF_CORNER)
+    took = time.perf_counter() - start
+    print(f"\n40k triangles: silhouette {capped.extruded_edges} edges, {capped.triangles} + "
+          f"{onepass.triangles} volume triangles in {took * 1e3:.0f} ms")
+    assert onepass.triangles == 7 * len(triangles)
+    assert took < 1.5  # a per-triangle Python loop takes several seconds here
