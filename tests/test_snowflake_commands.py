@@ -43,7 +43,6 @@ def test_edit_commands(editor):
     ("snow.add 2e6 0", "within -1e+06..1e+06"),
     ("snow.move 0 0 -1e300", "within -1e+06..1e+06"),
     ("workspace nowhere", "no workspace"),
-    ("workspace lights3d", "not built yet"),
 ])
 def test_bad_arguments_change_nothing(editor, line, needle):
     before = (editor.digest(), editor.version(), editor.workspaces["snowflake"].camera.height)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
-from app.commands import clouds, lighting2d, snowflake, volume
+from app.commands import clouds, lighting2d, lights3d, snowflake, volume
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.model.workspace import Workspace
@@ -25,5 +25,6 @@ COMMANDS: dict[str, WorkspaceCommands] = {
     "lighting2d": WorkspaceCommands(lighting2d.register, lighting2d.render_settings),
     "volume": WorkspaceCommands(volume.register, volume.render_settings),
     "clouds": WorkspaceCommands(clouds.register, clouds.render_settings),
+    "lights3d": WorkspaceCommands(lights3d.register, lights3d.render_settings),
     "snowflake": WorkspaceCommands(snowflake.register),
 }

@@ -150,7 +150,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         elif name in reg.cvars:
             c = reg.cvars[name]
             bounds = f", {c.min:g}..{c.max:g}" if c.min is not None and c.max is not None else ""
-            bounds += f", one of {'|'.join(c.choices)}" if c.choices else ""
+            bounds += f", one of {'|'.join(map(str, c.choices))}" if c.choices else ""
             console.print(f"{name} ({c.type.__name__}{bounds}, now {c.text()}, default {c.default}): {c.help}")
         elif name in reg.aliases:
             console.print(f"alias {name} {shlex.quote(reg.aliases[name])}")

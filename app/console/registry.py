@@ -123,7 +123,7 @@ class Cvar:
     archive: bool = False
     on_change: list[Callable[["Cvar"], None]] = field(default_factory=list)
     user_created: bool = False  # made by `set`; a later registration of the name takes it over
-    choices: tuple[str, ...] | None = None  # the only values a text cvar takes
+    choices: tuple | None = None  # the only values it takes, of its type (words, or numbers such as 1, 3, 5)
 
     def __post_init__(self) -> None:
         self.value = self.parse(str(self.default))
@@ -142,7 +142,7 @@ class Cvar:
         if self.min is not None and value < self.min or self.max is not None and value > self.max:
             raise CommandError(f"{self.name} must be within {self.min:g}..{self.max:g}, got {text}")
         if self.choices is not None and value not in self.choices:
-            raise CommandError(f"{self.name} must be one of {', '.join(self.choices)}, got {text!r}")
+            raise CommandError(f"{self.name} must be one of {', '.join(map(str, self.choices))}, got {text!r}")
         return value
 
     def set(self, text: str) -> None:

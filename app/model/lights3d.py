@@ -189,6 +189,23 @@ class Object3D:
         return local_mesh(self.kind, self.size).moved(self.position)
 
 
+# A new object's size where none is given (object.add), by kind.
+DEFAULT_SIZES = {"box": (30.0, 30.0, 30.0), "sphere": (15.0, 32), "torus": (20.0, 6.0, 48, 16),
+                 "lprism": (40.0, 40.0, 16.0, 12.0), "plane": (400.0,)}
+
+
+def new_object(kind: str, position=None, size=None) -> Object3D:
+    """An object of `kind`, DEFAULT_SIZES[kind] where no size is given; where no position is given it stands on
+    the ground at the origin (its centre half its height up, a plane at y = 0)."""
+    kind = _kind("object kind", kind, OBJECT_KINDS)
+    size = _size(kind, DEFAULT_SIZES[kind] if size is None else size)
+    if position is None:
+        half_height = {"box": size[1] / 2, "sphere": size[0], "torus": size[1], "lprism": size[1] / 2,
+                       "plane": 0.0}[kind]
+        position = (0.0, half_height, 0.0)
+    return Object3D(kind, size, position)
+
+
 # ---- lights ---------------------------------------------------------------------------------------------
 
 

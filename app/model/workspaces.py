@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from app.model.clouds_workspace import CloudsWorkspace
 from app.model.lighting2d_workspace import Lighting2DWorkspace
+from app.model.lights3d_workspace import Lights3DWorkspace
 from app.model.snowflake_workspace import SnowflakeWorkspace
 from app.model.volume_workspace import VolumeWorkspace
 from app.model.workspace import WorkspaceInfo
@@ -11,7 +12,7 @@ WORKSPACES: list[WorkspaceInfo] = [
     WorkspaceInfo("lighting2d", "2D lighting", Lighting2DWorkspace),
     WorkspaceInfo("volume", "Volume", VolumeWorkspace),
     WorkspaceInfo("clouds", "Clouds", CloudsWorkspace),
-    WorkspaceInfo("lights3d", "3D lights"),
+    WorkspaceInfo("lights3d", "3D lights", Lights3DWorkspace),
     WorkspaceInfo("snowflake", "Snowflake", SnowflakeWorkspace),
 ]
 

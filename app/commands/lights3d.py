@@ -1,0 +1,253 @@
+"""3D lights verbs (issue 17): objects, lights, the scene's lighting settings, the selection and the orbit
+camera, and the r_shadow* cvars of the shadow maps. Names are a contract (docs/lights3d.md, "Commands").
+
+Every edit is checked whole before anything changes and is one undo step, the moves of one drag together; the
+camera and the selection are no undo steps (undo puts back the selection that went with the scene)."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from app.console.console import Console
+from app.console.demo import ArgChecks
+from app.console.registry import CommandError, Cvar
+from app.io import lights3d_scene
+from app.io.lights3d_scene import Lights3DSceneError
+from app.model.lights3d import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
+                                Scene3D, default_scene, new_object)
+from app.model.lights3d_render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
+                                                Lights3DRenderSettings)
+from app.model.lights3d_workspace import ITEM_KINDS, Lights3DWorkspace
+from app.model.workspace import SceneFiles
+
+# What a field takes: the names of its numbers, or the words it may be.
+LIGHT_FIELDS = {"position": "x y z", "direction": "x y z", "colour": "r g b", "range": "units",
+                "falloff": "exponent", "angle": "degrees", "shadow": SHADOW_METHODS, "kind": LIGHT_KINDS}
+SETTINGS = {"ambient": "r g b", "shininess": "exponent", "specular": "strength"}
+
+
+def _numbers(what: str, words: list[str], names: str) -> tuple[float, ...]:
+    """`words` as the numbers `names` names ("x y z"); else CommandError. Ranges are the model's to check."""
+    count = len(names.split())
+    if len(words) != count:
+        raise CommandError(f"{what} takes {count} number{'s' if count > 1 else ''} ({names}), got {len(words)}")
+    try:
+        return tuple(float(word) for word in words)
+    except ValueError:
+        raise CommandError(f"{what} takes numbers ({names}), got {' '.join(words)!r}") from None
+
+
+def _value(what: str, words: list[str], spec: str | tuple[str, ...]):
+    """A field's value: one of the words `spec` lists, or the numbers it names (one number alone)."""
+    if isinstance(spec, tuple):
+        if len(words) != 1:
+            raise CommandError(f"{what} takes one word ({'|'.join(spec)}), got {len(words)}")
+        return words[0]  # the model refuses a word not in the list
+    numbers = _numbers(what, words, spec)
+    return numbers if len(numbers) > 1 else numbers[0]
+
+
+def _field(table: dict, what: str, field: str) -> str | tuple[str, ...]:
+    if field not in table:
+        raise CommandError(f"{what} have no field {field!r}; there are {', '.join(table)}")
+    return table[field]
+
+
+def _words(values) -> str:
+    return " ".join(f"{v:g}" for v in values)
+
+
+def _starting(words, prefix: str) -> list[str]:
+    return [w for w in words if w.startswith(prefix)]
+
+
+def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> None:
+    reg = console.registry.scoped(state.name)
+    history = state.history
+    # Index checks read the object and light counts, size checks the objects' kinds and the triangles they
+    # add up to: after any of these a demo's checker cannot know them.
+    checks.reshaped_by("lights3d", "object.add", "object.remove", "object.set", "light3d.add", "light3d.remove",
+                       "lights3d.reset", "scene.load", "undo", "redo")
+
+    defaults = Lights3DRenderSettings()
+    reg.add_cvar(Cvar("r_shadowMapSize", int, defaults.map_size, "3D lights: shadow map texels per side",
+                      min=MIN_MAP_SIZE, max=MAX_MAP_SIZE, archive=True))
+    reg.add_cvar(Cvar("r_shadowPCF", int, defaults.pcf, "3D lights: shadow map filter taps per side",
+                      choices=PCF_KERNELS, archive=True))
+    reg.add_cvar(Cvar("r_shadowBias", float, defaults.bias, "3D lights: shadow map depth bias (of 0..1 depth; "
+                      "more on slopes)", min=0.0, max=MAX_BIAS, archive=True))
+    reg.add_cvar(Cvar("r_shadowDebug", str, defaults.debug, "3D lights: a debug view instead of the lit scene",
+                      choices=DEBUG_VIEWS))
+
+    def apply(scene: Scene3D, key=None) -> None:
+        """Put an edited scene in place as one undo step; edits with the same key (one drag's) as one."""
+        if scene != state.scene:
+            history.checkpoint(key)
+            state.scene = scene
+
+    def remove(kind: str, index: int) -> None:
+        state.item(kind, index)
+        history.checkpoint()
+        state.remove(kind, index)
+
+    def position(coords: tuple) -> tuple | None:
+        given = tuple(v for v in coords if v is not None)
+        if len(given) not in (0, 3):
+            raise CommandError(f"give the position as x y z, got {len(given)} number{'s' if len(given) > 1 else ''}")
+        return given or None
+
+    # ---- files and the whole scene ------------------------------------------------------------------
+
+    def load(path: str) -> None:
+        try:
+            scene = lights3d_scene.load(path)
+        except Lights3DSceneError as exc:
+            raise CommandError(str(exc)) from None
+        history.checkpoint()
+        state.replace(scene)
+        console.print(f"loaded {len(scene.objects)} objects and {len(scene.lights)} lights from {path}")
+
+    state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",))
+
+    @reg.command("lights3d.reset", "", "Put the default scene back (seed 004's two lights over five objects)")
+    def reset() -> None:
+        scene = default_scene()
+        if (state.scene, state.selection) != (scene, None):
+            history.checkpoint()
+            state.replace(scene)
+
+    @checks.add("lights3d.set")
+    def set_scene(field: str, words: list[str]) -> Scene3D:
+        value = _value(field, words, _field(SETTINGS, "the scene's settings", field))
+        return state.scene.with_settings(**{field: value})
+
+    @reg.command("lights3d.set", "field values...", "Set the scene's ambient r g b (0..1), shininess S (the "
+                 "specular exponent) or specular K (its strength)", completer=lambda p: _starting(SETTINGS, p))
+    def lights3d_set(field: str, words: list[str]) -> None:
+        apply(set_scene(field, words), ("lights3d.set", field))
+
+    @checks.add("lights3d.select", "lights3d")
+    def selection(kind: str, index: int | None = None):
+        return state.checked_selection(kind, index)
+
+    @reg.command("lights3d.select", "what [index:int]", "Select object I or light I (the gizmo moves it), or none",
+                 completer=lambda p: _starting((*ITEM_KINDS, "none"), p))
+    def select(kind: str, index: int | None = None) -> None:
+        state.selection = selection(kind, index)
+
+    # ---- the camera ---------------------------------------------------------------------------------
+
+    @checks.add("view.orbit")
+    def orbit_camera(yaw: float, pitch: float, distance: float | None = None) -> Lights3DCamera:
+        cam = state.camera
+        return replace(cam, yaw=yaw % 360.0, pitch=pitch, distance=cam.distance if distance is None else distance)
+
+    @reg.command("view.orbit", "yaw:float pitch:float [distance:float]",
+                 f"Place the camera around its target: yaw and pitch in degrees (pitch within -89..89), distance "
+                 f"{Lights3DCamera.MIN_DISTANCE:g}..{Lights3DCamera.MAX_DISTANCE:g}", quiet=True)
+    def view_orbit(*args: float) -> None:
+        state.camera = orbit_camera(*args)
+
+    # ---- objects ------------------------------------------------------------------------------------
+
+    @checks.add("object.add", "lights3d")
+    def added_object(kind: str, x: float | None = None, y: float | None = None, z: float | None = None,
+                     size: list[float] | None = None) -> Scene3D:
+        return state.scene.add_object(new_object(kind, position((x, y, z)), tuple(size) if size else None))
+
+    @reg.command("object.add", "kind [x:float] [y:float] [z:float] [size:float...]",
+                 "Add a box, sphere, torus, lprism or plane at its centre x y z (default: standing on the ground at "
+                 "the origin) with its size (object.set has the numbers by kind)",
+                 completer=lambda p: _starting(OBJECT_KINDS, p))
+    def object_add(*args) -> None:
+        apply(added_object(*args))
+        obj = state.scene.objects[-1]
+        console.print(f"object {len(state.scene.objects) - 1}: {obj.kind} at {_words(obj.position)}")
+
+    @checks.add("object.move", "lights3d")
+    def moved_object(index: int, x: float, y: float, z: float) -> Scene3D:
+        return state.scene.with_object(index, position=(x, y, z))
+
+    @reg.command("object.move", "index:int x:float y:float z:float", "Move an object's centre (a drag is one "
+                 "undo step)", quiet=True)
+    def object_move(index: int, x: float, y: float, z: float) -> None:
+        apply(moved_object(index, x, y, z), ("object.move", index))
+
+    @checks.add("object.set", "lights3d")
+    def set_object(index: int, field: str, words: list[str]) -> Scene3D:
+        kind = state.item("object", index).kind
+        sizes = {"size": " ".join(SIZE_NAMES[kind]), "colour": "r g b"}
+        return state.scene.with_object(index, **{field: _numbers(f"a {kind}'s {field}", words,
+                                                                   _field(sizes, "objects", field))})
+
+    @reg.command("object.set", "index:int field values...", "Set an object's size (box sx sy sz; sphere radius "
+                 "segments; torus major minor segments sides; lprism sx sy sz thickness; plane size) or colour "
+                 "r g b (0..1)")
+    def object_set(index: int, field: str, words: list[str]) -> None:
+        apply(set_object(index, field, words), ("object.set", index, field))
+
+    checks.add("object.remove", "lights3d")(lambda index: state.item("object", index))
+
+    @reg.command("object.remove", "index:int", "Remove an object (the selection follows the objects that stay)")
+    def object_remove(index: int) -> None:
+        remove("object", index)
+
+    @reg.command("object.list", "", "List the objects", recorded=False)
+    def object_list() -> None:
+        for i, o in enumerate(state.scene.objects):
+            console.print(f"object {i}: {o.kind} size {_words(o.size)} at {_words(o.position)} "
+                          f"colour {_words(o.colour)}")
+        console.print(f"{len(state.scene.objects)} objects, {state.scene.triangles} triangles")
+
+    # ---- lights -------------------------------------------------------------------------------------
+
+    @checks.add("light3d.add", "lights3d")
+    def added_light(kind: str, x: float | None = None, y: float | None = None, z: float | None = None) -> Scene3D:
+        at = position((x, y, z))
+        return state.scene.add_light(Light3D(kind) if at is None else Light3D(kind, at))
+
+    @reg.command("light3d.add", "kind [x:float] [y:float] [z:float]", "Add a point, spot or directional light at "
+                 "x y z (default: the model's, 100 above the origin, shining down)",
+                 completer=lambda p: _starting(LIGHT_KINDS, p))
+    def light_add(*args) -> None:
+        apply(added_light(*args))
+        light = state.scene.lights[-1]
+        console.print(f"light {len(state.scene.lights) - 1}: {light.kind} at {_words(light.position)}")
+
+    @checks.add("light3d.set", "lights3d")
+    def set_light(index: int, field: str, words: list[str]) -> Scene3D:
+        state.item("light", index)  # a bad index is named before a bad field
+        value = _value(field, words, _field(LIGHT_FIELDS, "lights", field))
+        return state.scene.with_light(index, **{field: value})
+
+    @reg.command("light3d.set", "index:int field values...", "Set a light's position x y z, direction x y z, "
+                 "colour r g b (0..16), range, falloff, angle (a spot's half-angle, degrees), shadow (" +
+                 "|".join(SHADOW_METHODS) + ") or kind (" + "|".join(LIGHT_KINDS) + ")")
+    def light_set(index: int, field: str, words: list[str]) -> None:
+        apply(set_light(index, field, words), ("light3d.set", index, field))
+
+    checks.add("light3d.move", "lights3d")(lambda index, *xyz: set_light(index, "position", list(map(repr, xyz))))
+
+    @reg.command("light3d.move", "index:int x:float y:float z:float", "Move a light (a drag is one undo step; "
+                 "as light3d.set I position)", quiet=True)
+    def light_move(index: int, *xyz: float) -> None:
+        light_set(index, "position", list(map(repr, xyz)))
+
+    checks.add("light3d.remove", "lights3d")(lambda index: state.item("light", index))
+
+    @reg.command("light3d.remove", "index:int", "Remove a light (the selection follows the lights that stay)")
+    def light_remove(index: int) -> None:
+        remove("light", index)
+
+    @reg.command("light3d.list", "", "List the lights", recorded=False)
+    def light_list() -> None:
+        for i, li in enumerate(state.scene.lights):
+            console.print(f"light {i}: {li.kind} at {_words(li.position)} direction {_words(li.direction)} "
+                          f"colour {_words(li.colour)} range {li.range:g} falloff {li.falloff:g} "
+                          f"angle {li.angle:g} shadow {li.shadow}")
+        console.print(f"{len(state.scene.lights)} lights")
+
+
+def render_settings(console: Console, state: Lights3DWorkspace) -> Lights3DRenderSettings:
+    cvars = console.registry.cvars
+    return Lights3DRenderSettings(map_size=cvars["r_shadowMapSize"].value, pcf=cvars["r_shadowPCF"].value,
+                                  bias=cvars["r_shadowBias"].value, debug=cvars["r_shadowDebug"].value)
