@@ -5,44 +5,12 @@ from __future__ import annotations
 
 import math
 
-from PySide6.QtGui import QColor
-from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox,
-                               QHBoxLayout, QLabel, QLineEdit, QPushButton, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QFormLayout, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
+                               QPushButton, QVBoxLayout, QWidget)
 
 from app.commands.lighting2d import sample_names
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS, SHADOW_TYPES
-
-
-def _spin(lo: float, hi: float, step: float, decimals: int = 2) -> QDoubleSpinBox:
-    box = QDoubleSpinBox(minimum=lo, maximum=hi, singleStep=step, decimals=decimals)
-    box.setKeyboardTracking(False)
-    return box
-
-
-def _rgb(color) -> str:
-    return " ".join(f"{c:.4f}" for c in color)
-
-
-class ColorButton(QPushButton):
-    """Shows a colour; clicking opens QColorDialog and reports the choice as (r, g, b) in 0..1."""
-
-    def __init__(self, title: str, chosen) -> None:
-        super().__init__()
-        self.title = title
-        self.chosen = chosen
-        self.color = (1.0, 1.0, 1.0)
-        self.clicked.connect(self._pick)
-
-    def show_color(self, color) -> None:
-        self.color = tuple(color)
-        q = QColor.fromRgbF(*self.color)
-        self.setText(q.name())
-        self.setStyleSheet(f"background-color: {q.name()}; color: {'black' if q.lightnessF() > 0.5 else 'white'}")
-
-    def _pick(self) -> None:
-        picked = QColorDialog.getColor(QColor.fromRgbF(*self.color), self, self.title)
-        if picked.isValid():
-            self.chosen((picked.redF(), picked.greenF(), picked.blueF()))
+from app.views.form_widgets import ColorButton, rgb_words, spin
 
 
 class _Placement:
@@ -50,9 +18,9 @@ class _Placement:
     `send(key, value)` with the property's console syntax."""
 
     def __init__(self, send, scale_max: float, scale_step: float) -> None:
-        self.x, self.y = _spin(-1e7, 1e7, 5), _spin(-1e7, 1e7, 5)
-        self.rot = _spin(-3600, 3600, 5, 1)
-        self.sx, self.sy = _spin(0, scale_max, scale_step), _spin(0, scale_max, scale_step)
+        self.x, self.y = spin(-1e7, 1e7, 5), spin(-1e7, 1e7, 5)
+        self.rot = spin(-3600, 3600, 5, 1)
+        self.sx, self.sy = spin(0, scale_max, scale_step), spin(0, scale_max, scale_step)
         for box in (self.x, self.y):
             box.valueChanged.connect(lambda _=0: send("position", f"{self.x.value()} {self.y.value()}"))
         self.rot.valueChanged.connect(lambda v: send("rotation", repr(math.radians(v))))
@@ -84,7 +52,7 @@ class Lighting2DPanel(QWidget):
         self.sample.addItems(["(load a sample)", *sample_names()])
         self.sample.activated.connect(self._load_sample)
         form.addRow("Sample", self.sample)
-        self.ambient = ColorButton("Ambient colour", lambda c: self.run(f"ambient {_rgb(c)}"))
+        self.ambient = ColorButton("Ambient colour", lambda c: self.run(f"ambient {rgb_words(c)}"))
         form.addRow("Ambient", self.ambient)
         self.method = QComboBox()
         self.method.addItems(SHADOW_METHODS)
@@ -112,14 +80,14 @@ class Lighting2DPanel(QWidget):
         self.l_kind.addItems(LIGHT_KINDS)
         self.l_kind.currentTextChanged.connect(lambda v: self._light("kind", v))
         self.l_place = _Placement(self._light, 1e7, 10)
-        self.l_color = ColorButton("Light colour", lambda c: self._light("color", _rgb(c)))
-        self.l_intensity = _spin(0, 100, 0.1)
+        self.l_color = ColorButton("Light colour", lambda c: self._light("color", rgb_words(c)))
+        self.l_intensity = spin(0, 100, 0.1)
         self.l_intensity.valueChanged.connect(lambda v: self._light("intensity", repr(v)))
-        self.l_radius = _spin(0, 1e6, 1)
+        self.l_radius = spin(0, 1e6, 1)
         self.l_radius.valueChanged.connect(lambda v: self._light("radius", repr(v)))
-        self.l_decay = _spin(0, 100, 0.1)
+        self.l_decay = spin(0, 100, 0.1)
         self.l_decay.valueChanged.connect(lambda v: self._light("cone_decay", repr(v)))
-        self.l_height = _spin(0, 1e6, 5)
+        self.l_height = spin(0, 1e6, 5)
         self.l_height.valueChanged.connect(lambda v: self._light("height", repr(v)))
         self.l_enabled, self.l_shadows = QCheckBox("enabled"), QCheckBox("casts shadows")
         self.l_enabled.toggled.connect(lambda on: self._light("enabled", str(int(on))))

@@ -12,6 +12,8 @@ from app.views.clouds_panel import CloudsPanel
 from app.views.clouds_tool import CloudsTool
 from app.views.lighting2d_panel import Lighting2DPanel
 from app.views.lighting2d_tool import Lighting2DTool
+from app.views.lights3d_panel import Lights3DPanel
+from app.views.lights3d_tool import Lights3DTool
 from app.views.slice_painter import SlicePainter
 from app.views.slice_picker import SlicePicker
 from app.views.snowflake_panel import SnowflakePanel
@@ -84,5 +86,7 @@ VIEWS: dict[str, WorkspaceViews] = {
     "volume": WorkspaceViews(VolumeTool, volume_panel, 520),
     "clouds": WorkspaceViews(CloudsTool, lambda window, state, tool: Scrolled(CloudsPanel(window.editor, state,
                                                                                           window.run)), 420),
+    "lights3d": WorkspaceViews(Lights3DTool, lambda window, state, tool: Scrolled(Lights3DPanel(window.editor, state,
+                                                                                               window.run)), 320),
     "snowflake": WorkspaceViews(SnowflakeTool, lambda window, state, tool: SnowflakePanel(state, window.run)),
 }
