@@ -1,0 +1,153 @@
+"""The 3D lights editor with a real window (pytest-qt on Xvfb): the panel's list and properties, the gizmo drag,
+clicking, orbiting and zooming in the viewport, each landing as console commands."""
+import numpy as np
+import pytest
+from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
+from PySide6.QtGui import QMouseEvent, QWheelEvent
+from PySide6.QtWidgets import QApplication
+
+from app.model.lights3d_gizmo import gizmo_axes, pick_light, pick_object
+
+
+@pytest.fixture
+def lights3d(window, qtbot):
+    """The window on the 3D lights workspace, and the list of the commands it runs from here on."""
+    window.run("workspace lights3d")
+    qtbot.waitUntil(lambda: window.viewport.tool is window.tools["lights3d"])
+    commands: list[str] = []
+    window.editor.console.executed_listeners.append(commands.append)
+    return window, commands
+
+
+def state(window):
+    return window.editor.workspaces["lights3d"]
+
+
+def panel(window):
+    return window.workspace_panels["lights3d"].widget()  # inside its scroll area
+
+
+def size(window):
+    return window.viewport.width(), window.viewport.height()
+
+
+def mouse(window, kind: QEvent.Type, xy, button=Qt.MouseButton.LeftButton) -> None:
+    """A mouse event delivered as it is (QTest's moves go through the X cursor)."""
+    vp = window.viewport
+    local = QPointF(*xy)
+    held = Qt.MouseButton.NoButton if kind == QEvent.Type.MouseButtonRelease else button
+    event = QMouseEvent(kind, local, QPointF(vp.mapToGlobal(local)), button if kind != QEvent.Type.MouseMove
+                        else Qt.MouseButton.NoButton, held, Qt.KeyboardModifier.NoModifier)
+    QApplication.sendEvent(vp, event)
+
+
+def drag(window, start, end, steps: int = 6, button=Qt.MouseButton.LeftButton) -> None:
+    start, end = np.asarray(start, float), np.asarray(end, float)
+    mouse(window, QEvent.Type.MouseButtonPress, start, button)
+    for k in range(1, steps + 1):
+        mouse(window, QEvent.Type.MouseMove, start + (end - start) * k / steps, button)
+    mouse(window, QEvent.Type.MouseButtonRelease, end, button)
+
+
+def click(window, xy) -> None:
+    mouse(window, QEvent.Type.MouseButtonPress, xy)
+    mouse(window, QEvent.Type.MouseButtonRelease, xy)
+
+
+def test_the_list_selects_and_the_panel_shows_the_selection(lights3d):
+    window, commands = lights3d
+    p = panel(window)
+    assert not p.light_box.isVisible() and not p.object_box.isVisible()
+    p.list.setCurrentRow(len(state(window).scene.objects) + 1)  # the rows: objects, then lights
+    assert commands == ["lights3d.select light 1"]
+    assert state(window).selection == ("light", 1)
+    light = state(window).scene.lights[1]
+    assert p.light_box.isVisible() and p.light_box.title() == "Light 1"
+    assert p.l_kind.currentText() == "spot" and p.l_angle.value() == light.angle
+    assert [box.value() for box in p.l_position.boxes] == list(light.position)
+
+    p.list.setCurrentRow(1)
+    assert commands[-1] == "lights3d.select object 1"
+    assert p.object_box.isVisible() and not p.light_box.isVisible()
+    assert [box.value() for box in p.o_position.boxes] == list(state(window).scene.objects[1].position)
+
+
+def test_the_shadow_combo_sets_the_selected_lights_method(lights3d):
+    window, commands = lights3d
+    window.run("lights3d.select light 0")
+    commands.clear()
+    panel(window).l_shadow.setCurrentText("zfail")
+    assert commands == ["light3d.set 0 shadow zfail"]
+    assert state(window).scene.lights[0].shadow == "zfail"
+
+
+def test_a_gizmo_drag_moves_along_one_axis_in_one_undo_step(lights3d):
+    window, commands = lights3d
+    window.run("lights3d.select object 1")
+    before = state(window).scene.objects[1].position
+    digest = window.editor.digest()
+    (a, b) = gizmo_axes(state(window).camera, size(window), before)[0]  # the x handle's screen segment
+    start = a + 0.7 * (b - a)
+    drag(window, start, start + 1.5 * (b - a))
+    moves = [c for c in commands if c.startswith("object.move 1 ")]
+    assert len(moves) >= 2 and not any(c.startswith("view.orbit") for c in commands)
+    after = state(window).scene.objects[1].position
+    assert after[0] > before[0] + 5 and after[1:] == before[1:]
+    assert state(window).selection == ("object", 1)
+    window.run("undo")
+    assert window.editor.digest() == digest
+
+
+def test_a_click_on_empty_space_deselects_and_on_a_light_selects_it(lights3d):
+    window, commands = lights3d
+    s = state(window)
+    window.run("lights3d.select object 2")
+    corner = (5, 5)  # over the ground's far edge: nothing there
+    assert pick_light(s.scene, s.camera, size(window), *corner) is None
+    assert pick_object(s.scene, s.camera, size(window), *corner) is None
+    click(window, corner)
+    assert commands[-1] == "lights3d.select none" and s.selection is None
+    assert not panel(window).object_box.isVisible()
+
+    (a, _), *_ = gizmo_axes(s.camera, size(window), s.scene.lights[0].position)  # the light's own pixel
+    click(window, a)
+    assert commands[-1] == "lights3d.select light 0" and s.selection == ("light", 0)
+
+
+def test_a_drag_on_empty_space_orbits(lights3d):
+    window, commands = lights3d
+    yaw = state(window).camera.yaw
+    drag(window, (5, 5), (45, 5))
+    assert commands and all(c.startswith("view.orbit") for c in commands)
+    assert state(window).camera.yaw == pytest.approx((yaw - 40 * 0.4) % 360, abs=1e-3)
+    assert state(window).selection is None
+
+
+def test_the_wheel_zooms(lights3d):
+    window, commands = lights3d
+    distance = state(window).camera.distance
+    vp = window.viewport
+    centre = QPointF(vp.width() / 2, vp.height() / 2)
+    event = QWheelEvent(centre, QPointF(vp.mapToGlobal(centre)), QPoint(), QPoint(0, 120), Qt.MouseButton.NoButton,
+                        Qt.KeyboardModifier.NoModifier, Qt.ScrollPhase.NoScrollPhase, False)
+    QApplication.sendEvent(vp, event)
+    assert state(window).camera.distance == pytest.approx(distance / 1.15, abs=1e-3)
+    assert commands[-1].startswith("view.orbit")
+
+
+def test_delete_removes_the_selection(lights3d, qtbot):
+    window, commands = lights3d
+    window.run("lights3d.select light 1")
+    qtbot.keyClick(window.viewport, Qt.Key.Key_Delete)
+    assert commands[-1] == "light3d.remove 1"
+    assert len(state(window).scene.lights) == 1 and state(window).selection is None
+
+
+def test_sync_sends_no_commands(lights3d):
+    window, commands = lights3d
+    log = len(window.editor.console.log)
+    for selection in ("object 4", "light 1", "none", "object 0"):
+        window.editor.console.execute(f"lights3d.select {selection}", echo=False)
+        panel(window).sync()
+    assert commands == [f"lights3d.select {s}" for s in ("object 4", "light 1", "none", "object 0")]
+    assert len(window.editor.console.log) == log
