@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent, QWheelEvent
-from PySide6.QtWidgets import QApplication
+from PySide6.QtWidgets import QApplication, QPushButton
 
 from app.model.lights3d_gizmo import gizmo_axes, pick_light, pick_object
 
@@ -151,3 +151,20 @@ def test_sync_sends_no_commands(lights3d):
         panel(window).sync()
     assert commands == [f"lights3d.select {s}" for s in ("object 4", "light 1", "none", "object 0")]
     assert len(window.editor.console.log) == log
+
+
+def test_add_menus_add_and_select_and_sizes_follow_the_kind(lights3d):
+    window, commands = lights3d
+    p = panel(window)
+    add_light = next(b for b in p.findChildren(QPushButton) if b.text() == "+ Light").menu()
+    next(a for a in add_light.actions() if a.text() == "point").trigger()
+    assert commands == ["light3d.add point", "lights3d.select light 2"]
+    assert p.light_box.title() == "Light 2"
+
+    window.run("lights3d.select object 4")  # an L-prism: four numbers
+    p.o_size[3].setValue(10)
+    assert commands[-1] == "object.set 4 size 40.0 40.0 16.0 10.0"
+    window.run("lights3d.select object 0")  # the ground plane: one
+    form = p.object_box.layout()
+    assert [form.isRowVisible(box) for box in p.o_size] == [True, False, False, False]
+    assert form.labelForField(p.o_size[0]).text() == "size"
