@@ -148,6 +148,10 @@ class ShadowMap:
         self.views, self.size, self._drawn = views, size, key
         return True
 
+    def reserve(self, light: Light3D, bounds: tuple, size: int, pcf: int) -> None:
+        """Make the depth texture `render` will need, ahead of it."""
+        self._target(map_views(light, bounds, size, pcf).atlas(size))
+
     def forget(self) -> None:
         """The next render draws the map whatever it last drew."""
         self._drawn = None
