@@ -191,6 +191,7 @@ def test_a_pass_leaves_no_state_behind_and_draws_no_colour(host):
     vp = view_proj(*SIDE_VIEW, SIZE)
     target.clear(colour=(0.25, 0.5, 0.75, 1.0))
     colour = target.fbo.read(components=4)
+    target.fbo.use()  # the passes bind it: a test run before this one may have left another bound
     before = snapshot()
     shadow_pass.draw_depth(target.fbo, soup([GROUND, BOX]), vp)
     for method in METHODS:

@@ -36,15 +36,16 @@ GL = _import_gl()
 
 
 class StencilTarget:
-    """An RGBA8 texture and a depth + 8-bit stencil renderbuffer in one single-sampled framebuffer (`fbo`).
+    """An RGBA texture (8-bit, or `dtype` "f2" for float16: sums of passes kept beyond 1 and without a rounding
+    each) and a depth + 8-bit stencil renderbuffer in one single-sampled framebuffer (`fbo`).
 
     moderngl makes DEPTH_COMPONENT24 renderbuffers only; this one is re-specified as DEPTH24_STENCIL8 (a
     renderbuffer's storage may be) and attached to the stencil point too. Every GL object stays moderngl's,
     so `release`, and renderer_base's release walk, free them all."""
 
-    def __init__(self, ctx: moderngl.Context, size: tuple[int, int]) -> None:
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], dtype: str = "f1") -> None:
         self.ctx, self.size = ctx, size
-        self.colour = ctx.texture(size, 4)
+        self.colour = ctx.texture(size, 4, dtype=dtype)
         self.depth_stencil = ctx.depth_renderbuffer(size)
         with _bound(GL.glBindRenderbuffer, GL.GL_RENDERBUFFER, GL.GL_RENDERBUFFER_BINDING, self.depth_stencil.glo):
             GL.glRenderbufferStorage(GL.GL_RENDERBUFFER, GL.GL_DEPTH24_STENCIL8, *size)

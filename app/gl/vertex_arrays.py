@@ -20,3 +20,9 @@ class VertexArrays:
                 self._arrays.pop(old).release()  # its program was released by a reload
             vao = self._arrays[program] = self._make(program)
         return vao
+
+    def release(self) -> None:
+        """Release every vertex array made (the buffers they read belong to the caller)."""
+        for vao in self._arrays.values():
+            vao.release()
+        self._arrays.clear()

@@ -6,6 +6,7 @@ import moderngl
 
 from app.gl.clouds_workspace import CloudsWorkspaceRenderer
 from app.gl.lighting2d_workspace import Lighting2DWorkspaceRenderer
+from app.gl.lights3d_workspace import Lights3DWorkspaceRenderer
 from app.gl.renderer_base import WorkspaceRendererBase
 from app.gl.shaders import ShaderLibrary
 from app.gl.snowflake_workspace import SnowflakeWorkspaceRenderer
@@ -16,6 +17,7 @@ RENDERERS: dict[str, type[WorkspaceRendererBase]] = {
     "lighting2d": Lighting2DWorkspaceRenderer,
     "volume": VolumeWorkspaceRenderer,
     "clouds": CloudsWorkspaceRenderer,
+    "lights3d": Lights3DWorkspaceRenderer,
     "snowflake": SnowflakeWorkspaceRenderer,
 }
 EMPTY_BACKGROUND = (0.16, 0.16, 0.18, 1.0)

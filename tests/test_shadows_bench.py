@@ -1,0 +1,47 @@
+"""The shadows bench (app/bench/shadows.py) on a tiny plan: its rows and the columns other tools read, the
+volume methods' fill cost against their casters, the scene's size knob, and `shadelab bench shadows`. No
+timing is checked, only that the work is done and measured."""
+import pytest
+
+from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE, harness, report, shadows
+
+TINY = shadows.Plan(size=(64, 48), triangles=(2530,), map_sizes=(256,), biases=(0.0,), runs=1)
+
+
+def test_registered_for_the_lights3d_workspace():
+    assert TECHNIQUES["shadows"] is shadows.technique
+    assert WORKSPACE_TECHNIQUE["lights3d"] == "shadows"
+
+
+@pytest.mark.parametrize("triangles", [2530, 10_000, 100_000])
+def test_the_scene_grows_to_about_the_triangles_asked(triangles):
+    scene = shadows.scene_of(triangles)
+    assert triangles <= scene.triangles <= 1.1 * triangles
+    assert [o.kind for o in scene.objects] == ["plane", "box", "sphere", "torus", "lprism"]
+
+
+def test_rows_measure_mismatch_and_fill_cost(gl, tmp_path):
+    rows = harness.run(gl, shadows.technique(plan=TINY), quick=True, runs=1)
+    by_method = {r.method: r for r in rows}
+    assert set(by_method) == {"onepass", "zpass", "zfail", "map", "map pcf1", "map pcf3", "map pcf5", "map bias"}
+    for row in rows:
+        assert 0 <= row.extra["mismatch_off_edge_pct"] <= row.extra["mismatch_pct"] < 5
+        assert row.ms_median > 0 and row.extra["still_ms"] > 0 and (row.width, row.height) == TINY.size
+    onepass, zpass, zfail = (by_method[m].extra for m in ("onepass", "zpass", "zfail"))
+    casters = onepass["caster_triangles"]
+    assert onepass["volume_triangles"] == 7 * casters  # seed 002: 7 per caster triangle
+    assert zpass["volume_triangles"] == 2 * zpass["extruded_edges"]  # the silhouettes' quads
+    assert zfail["volume_triangles"] == 2 * zfail["extruded_edges"] + casters  # and both caps
+    assert zfail["mismatch_off_edge_pct"] == 0.0  # what differs lies on the reference's shadow edges
+    assert by_method["map bias"].extra["bias"] == 0.0 and by_method["map pcf5"].extra["pcf"] == 5
+    report.write_csv(tmp_path / "shadows.csv", rows)
+    header = (tmp_path / "shadows.csv").read_text().splitlines()[0].split(",")
+    assert {"mismatch_pct", "mismatch_off_edge_pct", "volume_triangles"} <= set(header)
+
+
+def test_cli_bench_writes_the_csv_and_the_chart(tmp_path, monkeypatch, qapp):
+    from app import cli
+
+    monkeypatch.setitem(TECHNIQUES, "shadows", lambda quick=False: shadows.technique(plan=TINY))
+    assert cli.main(["bench", "shadows", "--quick", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "shadows.csv").is_file() and (tmp_path / "shadows.png").is_file()
