@@ -30,9 +30,9 @@ from scipy import ndimage
 
 from app.bench.harness import Method, Technique, time_frames
 from app.gl.light_reach import reaches
-from app.gl.shadow_map import MapSettings
 from app.model import mesh3d
 from app.model.lights3d import Lights3DCamera, Scene3D, default_scene
+from app.model.lights3d_render_settings import Lights3DRenderSettings
 
 SCENE = "default"
 CAMERA = Lights3DCamera(distance=250.0)
@@ -114,7 +114,7 @@ class Setting:
     """What one row draws: a method, the scene's triangles, the map's settings."""
     method: str
     triangles: int
-    map: MapSettings
+    map: Lights3DRenderSettings
 
 
 class ShadowsBench:
@@ -171,12 +171,11 @@ class ShadowsBench:
 
     def methods(self) -> list[Method]:
         p = self.plan
-        default_map = MapSettings()
+        default_map = Lights3DRenderSettings()
         out = [self.method(m, "triangles", p.triangles, lambda v, m=m: Setting(m, int(v), default_map))
                for m in (*VOLUME_METHODS, "map")]
-        out += [self.method(f"map pcf{k}", "map_size", p.map_sizes,
-                            lambda v, k=k: Setting("map", p.triangles[0], MapSettings(int(v), k, SMALL_BIAS)))
-                for k in (1, 3, 5)]
+        out += [self.method(f"map pcf{k}", "map_size", p.map_sizes, lambda v, k=k: Setting(
+                    "map", p.triangles[0], Lights3DRenderSettings(int(v), k, SMALL_BIAS))) for k in (1, 3, 5)]
         out.append(self.method("map bias", "bias", p.biases,
                                lambda v: Setting("map", p.triangles[0], replace(default_map, bias=float(v)))))
         return out

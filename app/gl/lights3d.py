@@ -21,6 +21,7 @@ skipped, each light's passes are scissored to its reach, and only casters within
 """
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, replace
 
@@ -33,14 +34,16 @@ from app.gl.light_reach import (frustum_planes, light_in_view, reach_box, reache
 from app.gl.lights3d_meshes import ObjectBuffer, ObjectBuffers
 from app.gl.lights3d_overlay import Overlay
 from app.gl.lights3d_volumes import VolumeCache, build
-from app.gl.shadow_map import MapSettings, ShadowMap
+from app.gl.shadow_map import ShadowMap
 from app.gl.shadow_volume_pass import METHODS as VOLUME_METHODS
 from app.gl.shadow_volume_pass import SHADOW_VALUE, ShadowVolumePass, shadowed
 from app.gl.stencil import GL, StencilState, StencilTarget, clear_stencil, stencil_state
 from app.gl.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
 from app.model.lights3d import BACKGROUND, Light3D, Scene3D
+from app.model.lights3d_render_settings import Lights3DRenderSettings
 
+log = logging.getLogger(__name__)
 # Scene depth and ambient colour: depth LESS and written, stencil untouched.
 SCENE_PASS = StencilState(write_mask=0, depth_write=True, colour_write=True)
 # Where a light is added: the stencil value each method leaves on lit pixels (onepass: anything but the shadow
@@ -48,6 +51,13 @@ SCENE_PASS = StencilState(write_mask=0, depth_write=True, colour_write=True)
 LIT_WHERE = {"onepass": (GL.GL_NOTEQUAL, SHADOW_VALUE), "zpass": (GL.GL_EQUAL, 0), "zfail": (GL.GL_EQUAL, 0)}
 COPY_PASS = StencilState(write_mask=0, depth_func=GL.GL_ALWAYS, colour_write=True)
 LIGHT_KIND = {"point": 0, "spot": 1, "directional": 2}
+
+
+def drop_stale_errors() -> None:
+    """Take the GL errors others left queued (moderngl never asks for them; a framebuffer deleted while bound
+    leaves one at the next one made): PyOpenGL would raise them at this frame's first call. Logged, not raised."""
+    while (error := GL.glGetError()) != GL.GL_NO_ERROR:
+        log.warning("a GL error left before the 3D lights' frame: 0x%x", error)
 
 
 def light_pass_state(method: str) -> StencilState:
@@ -112,12 +122,15 @@ class Lights3DRenderer:
 
     # ---- a frame ------------------------------------------------------------------------------------
 
-    def render(self, fbo: moderngl.Framebuffer, scene: Scene3D, camera: OrbitCamera, settings=None,
-               selection=None, marks: bool = True) -> FrameStats:
-        """Draw the scene into `fbo`; `settings` holds map_size, pcf and bias (None: MapSettings' defaults);
-        `selection` is None, ("object", i) or ("light", i); without `marks`, the lit scene alone (as the
-        reference draws it)."""
-        settings = settings or MapSettings()
+    def render(self, fbo: moderngl.Framebuffer, scene: Scene3D, camera: OrbitCamera,
+               settings: Lights3DRenderSettings | None = None, selection=None, marks: bool = True) -> FrameStats:
+        """Draw the scene into `fbo` with `settings` (the map's size, PCF and bias, and the debug view; None: the
+        defaults); `selection` is None, ("object", i) or ("light", i); without `marks`, the lit scene alone (as
+        the reference draws it). The debug views draw on black: `stencil` the first stencil-shadowed light's
+        stencil after its volumes, value / 255 as grey; `mask` white where the first light lights a pixel."""
+        settings = settings or Lights3DRenderSettings()
+        fbo.use()  # first: moderngl binds its last framebuffer again after making one (the target), maybe a deleted one
+        drop_stale_errors()
         stats = FrameStats()
         target = self._target(fbo.size)
         uploads, built = self.objects.uploads, self.volumes.built
@@ -125,10 +138,16 @@ class Lights3DRenderer:
         view_proj = clip_from_world(camera, fbo.size)
         planes = frustum_planes(view_proj)
         in_view = [b for b in buffers if sphere_in_view(planes, b.centre, b.radius)]
+        debug = settings.debug
         target.fbo.use()  # its own scissor (none) applied before the clear, whatever the host's was
-        target.clear(colour=(*BACKGROUND, 1.0))
-        self._scene_pass(target.fbo, in_view, scene, view_proj)
-        for index, light in enumerate(scene.lights):
+        target.clear(colour=(*(BACKGROUND if debug == "none" else (0.0, 0.0, 0.0)), 1.0))
+        self._scene_pass(target.fbo, in_view, scene.ambient if debug == "none" else (0.0, 0.0, 0.0), view_proj)
+        lights = list(enumerate(scene.lights))
+        if debug == "mask":
+            lights = lights[:1]
+        elif debug == "stencil":
+            lights = [(i, light) for i, light in lights if light.shadow in VOLUME_METHODS][:1]
+        for index, light in lights:
             reached = [b for b in buffers if reaches(light, b.centre, b.radius)]
             shown = [b for b in reached if any(b is v for v in in_view)]
             # the pixels it can light: its reach within the objects it reaches in view
@@ -139,7 +158,10 @@ class Lights3DRenderer:
                 continue
             target.fbo.scissor = rect  # applied by each pass's use() of the target, the stencil's too
             self._shadow(target, index, light, reached, buffers, view_proj, settings, stats)
-            self._light_pass(target.fbo, scene, camera, index, light, shown, view_proj, settings)
+            if debug == "stencil":
+                self._stencil_view(target.fbo)
+            else:
+                self._light_pass(target.fbo, scene, camera, index, light, shown, view_proj, settings)
             target.fbo.scissor = None
             stats.lights_drawn += 1
             stats.scissor_pixels += rect[2] * rect[3]
@@ -168,10 +190,10 @@ class Lights3DRenderer:
             self.target.colour.filter = (moderngl.NEAREST, moderngl.NEAREST)
         return self.target
 
-    def _scene_pass(self, fbo, buffers: list[ObjectBuffer], scene: Scene3D, view_proj: np.ndarray) -> None:
+    def _scene_pass(self, fbo, buffers: list[ObjectBuffer], ambient, view_proj: np.ndarray) -> None:
         program = self.shaders.program("lights3d_ambient")
         program["u_view_proj"].value = matrix(view_proj)
-        program["u_ambient"].value = tuple(scene.ambient)
+        program["u_ambient"].value = tuple(ambient)
         fbo.use()
         with stencil_state(SCENE_PASS), blending(False):
             for b in buffers:
@@ -198,7 +220,7 @@ class Lights3DRenderer:
         self._light_uniforms(program, light, view_proj)
         values = {"u_light_colour": tuple(light.colour), "u_eye": tuple(camera.position()),
                   "u_shininess": scene.shininess, "u_specular": scene.specular,
-                  "u_facing_test": light.shadow != "none"}
+                  "u_facing_test": light.shadow != "none", "u_reach_mask": settings.debug == "mask"}
         for name, value in values.items():
             program[name].value = value
         if light.shadow == "map":
@@ -221,6 +243,18 @@ class Lights3DRenderer:
             if name in program:
                 program[name].value = value
 
+    def _stencil_view(self, fbo) -> None:
+        """The stencil as grey, value / 255: each bit's share added where that bit is set (8 passes)."""
+        program = self.shaders.program("fullscreen_colour")
+        fbo.use()
+        with blending(True):
+            for bit in range(8):
+                program["u_color"].value = (*[(1 << bit) / 255] * 3, 0.0)
+                state = StencilState(func=GL.GL_EQUAL, ref=1 << bit, read_mask=1 << bit, write_mask=0,
+                                     depth_func=GL.GL_ALWAYS, colour_write=True)
+                with stencil_state(state):
+                    self._fullscreen.get(program).render(vertices=3)
+
     def _copy(self, target: StencilTarget, fbo) -> None:
         program = self.shaders.program("lights3d_present")
         target.colour.use(0)
@@ -232,7 +266,7 @@ class Lights3DRenderer:
     # ---- one light's shadow, measured ---------------------------------------------------------------
 
     def shadow_mask(self, scene: Scene3D, camera: OrbitCamera, size: tuple[int, int], light_index: int,
-                    method: str, settings=None) -> tuple[np.ndarray, MaskStats]:
+                    method: str, settings: Lights3DRenderSettings | None = None) -> tuple[np.ndarray, MaskStats]:
         """Light `light_index` shadowed by `method` ("map" or a stencil method) over the scene seen by `camera`:
         (bool (H, W) top row first, True where a surface is in its shadow, the reference's pixels; the cost).
         Volumes and maps are made anew, never kept ones, so the cost is a light's that moved. The pixels meant
@@ -240,14 +274,15 @@ class Lights3DRenderer:
         included) or of the map (under half its PCF taps see the light); the caller restricts them to the
         pixels the light reaches and faces, as the reference's `facing & ~visible` means. The target stays bound
         (release() unbinds it before deleting it)."""
-        settings = settings or MapSettings()
+        settings = settings or Lights3DRenderSettings()
+        drop_stale_errors()
         light = replace(scene.lights[light_index], shadow=method)
         target = self._target(size)
         buffers = self.objects.update(scene.objects)
         view_proj = clip_from_world(camera, size)
         target.fbo.use()
         target.clear(colour=(*BACKGROUND, 1.0))
-        self._scene_pass(target.fbo, buffers, scene, view_proj)
+        self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)
         casters = [b for b in buffers if b.casts and reaches(light, b.centre, b.radius)]
         if method == "map":  # its texture made before the clock starts: drawing a map is timed, not allocating it
             self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders)

@@ -1,7 +1,7 @@
 """What the 3D lights editor draws over the lit scene, in pixels: a marker at each light (a square in its colour,
 with a short stroke along a spot's or directional light's direction), the selected item highlighted (a light's
 marker ringed, an object's bounding box outlined) and the translate gizmo on it (x, y and z handles in red, green
-and blue, HANDLE_FRACTION of the view's height long at any distance). Always on top: depth and stencil ignored.
+and blue, where app/model/lights3d_gizmo.py puts them for the tool to hit). Always on top: depth and stencil ignored.
 
 Geometry is built in numpy each frame (a few dozen triangles): world points projected with the camera, strokes
 cut where they cross the near plane, anything behind the eye left out."""
@@ -16,9 +16,9 @@ from app.gl.stencil import GL, StencilState, stencil_state
 from app.gl.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
 from app.model.lights3d import Scene3D
+from app.model.lights3d_gizmo import gizmo_axes
 
 PROGRAM = "overlay2d"
-HANDLE_FRACTION = 0.12   # a gizmo handle's length, as a share of the view's height
 STROKE_FRACTION = 0.06   # a light's direction stroke
 MARKER_PX = 4.0          # a light marker's half side
 HIGHLIGHT = (1.0, 0.85, 0.2, 1.0)
@@ -111,16 +111,13 @@ def box_marks(lo, hi, view: Projection) -> list[np.ndarray]:
     return parts
 
 
-def gizmo_marks(origin, view: Projection) -> list[np.ndarray]:
-    if not view.in_front(origin):
+def gizmo_marks(camera: OrbitCamera, size: tuple[int, int], origin) -> list[np.ndarray]:
+    segments = gizmo_axes(camera, size, origin)  # the handles the tool hit-tests, in pixels
+    if segments is None:
         return []
-    length = view.world_length(origin, HANDLE_FRACTION)
     parts = []
-    for axis, colour in enumerate(AXIS_COLOURS):
-        tip = np.asarray(origin, np.float64) + length * np.eye(3)[axis]
-        ends = view.segment(origin, tip)
-        if ends is not None:
-            parts += [stroke(ends, 1.5, colour), square(ends[1], 3.0, colour)]
+    for ends, colour in zip(segments, AXIS_COLOURS):
+        parts += [stroke(ends, 1.5, colour), square(ends[1], 3.0, colour)]
     return parts
 
 
@@ -134,7 +131,7 @@ def overlay_vertices(scene: Scene3D, camera: OrbitCamera, size: tuple[int, int],
         parts += box_marks(mesh.positions.min(0), mesh.positions.max(0), view)
     if kind is not None:
         item = scene.objects[index] if kind == "object" else scene.lights[index]
-        parts += gizmo_marks(item.position, view)
+        parts += gizmo_marks(camera, size, item.position)
     return np.concatenate(parts or [np.empty((0, 6))]).astype(np.float32)
 
 

@@ -32,14 +32,6 @@ CUBE_FACES = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1
 
 
 @dataclass(frozen=True)
-class MapSettings:
-    """The map's settings where a host gives none; the workspace's render settings carry the same fields."""
-    map_size: int = 1024  # texels a side (a cube face's, for a point light)
-    pcf: int = 3          # taps per side: 1, 3 or 5
-    bias: float = 0.005   # in the map's 0..1 linear depth
-
-
-@dataclass(frozen=True)
 class MapViews:
     view_proj: tuple      # (4, 4) row-major clip-from-world per face: 1, or 6 (+x -x +y -y +z -z)
     far: float            # distances over this are the stored depth; 0: the orthographic view's own depth
