@@ -143,14 +143,14 @@ def seen_last_frame(state, turn: float, size=SIZE) -> np.ndarray:
 
 
 def test_a_fast_turn_reprojects_the_history_and_reads_nothing_outside_the_last_frame(host):
-    """Eight frames turning 6 degrees each: every frame traces its blocks' next pixel only (a turn restarts the
+    """Eight frames turning 3 degrees each: every frame traces its blocks' next pixel only (a turn restarts the
     counts, not the order), keeps what the last frame saw (reprojected by direction: closer to the truth than
     the bilinear buffer alone) and, where the last frame saw nothing, shows exactly this frame's buffer."""
     state = sky(pitch=20.0)
     settings = replace(PLAIN, downsample=2, reproject=True)
     still = lookups(host, state, settings, frames=5)
     for _ in range(8):
-        state.set_camera(yaw=state.view.yaw + 6.0)
+        state.set_camera(yaw=state.view.yaw + 3.0)
         shown, buffer, clouds = draw(host, state, settings)
         assert np.isfinite(buffer).all()
         assert clouds.lookups(SIZE, state.frame(), settings) == pytest.approx(still, rel=0.25)
@@ -158,7 +158,7 @@ def test_a_fast_turn_reprojects_the_history_and_reads_nothing_outside_the_last_f
     clouds._key = None  # the same view and frame again with no history: the bilinear buffer alone
     clouds.frame_index -= 2
     bilinear, _, _ = draw(host, state, settings)
-    seen = seen_last_frame(state, 6.0)
+    seen = seen_last_frame(state, 3.0)
     assert (~seen).sum() > 50 and (shown[~seen] == bilinear[~seen]).all()
     assert np.abs(shown - truth).mean() < np.abs(bilinear - truth).mean()
 
