@@ -156,8 +156,8 @@ def test_a_frame_leaves_no_gl_state_behind(host, method):
 
 
 def test_a_framebuffer_deleted_while_bound_elsewhere_does_not_break_a_frame(gl, host):
-    """moderngl leaves GL_INVALID_OPERATION queued when it binds a deleted framebuffer again; PyOpenGL would
-    raise it at the frame's first stencil call."""
+    """moderngl leaves GL_INVALID_OPERATION queued when it binds a deleted framebuffer again: the frame binds
+    the host's first, so making its target queues none, and it takes what was queued before it."""
     other = OffscreenTarget(gl, (16, 16))
     other.fbo.use()
     other.release()

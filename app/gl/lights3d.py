@@ -54,8 +54,8 @@ LIGHT_KIND = {"point": 0, "spot": 1, "directional": 2}
 
 
 def drop_stale_errors() -> None:
-    """Take the GL errors others left queued (moderngl never asks for them; a framebuffer deleted while bound
-    leaves one at the next one made): PyOpenGL would raise them at this frame's first call. Logged, not raised."""
+    """Take the GL errors left queued before the frame (moderngl never asks for them: a framebuffer deleted while
+    bound leaves one at the next one made), logged, so that glGetError after the frame tells of its own alone."""
     while (error := GL.glGetError()) != GL.GL_NO_ERROR:
         log.warning("a GL error left before the 3D lights' frame: 0x%x", error)
 
