@@ -29,14 +29,14 @@ GOLDEN = 0.61803398875  # the blue noise's shift per frame: every offset visited
 
 
 class Target:
-    """A framebuffer of float textures (nearest for texelFetch-free reads; the first one may filter)."""
+    """A framebuffer of float textures, nearest but those listed in `linear` (read between texels)."""
 
     def __init__(self, ctx: moderngl.Context, size: tuple[int, int], components: tuple[int, ...],
-                 linear: bool = False) -> None:
+                 linear: tuple[int, ...] = ()) -> None:
         self.size = size
         self.textures = [ctx.texture(size, c, dtype="f4") for c in components]
         for i, texture in enumerate(self.textures):
-            f = moderngl.LINEAR if linear and i == 0 else moderngl.NEAREST
+            f = moderngl.LINEAR if i in linear else moderngl.NEAREST
             texture.filter = (f, f)
             texture.repeat_x = texture.repeat_y = False
         self.fbo = ctx.framebuffer(self.textures)
@@ -126,7 +126,7 @@ class CloudRenderer:
 
     # ---- targets ------------------------------------------------------------------------------------
 
-    def _target(self, name: str, size, components, linear=False) -> Target:
+    def _target(self, name: str, size, components, linear: tuple[int, ...] = ()) -> Target:
         t = self._targets.get(name)
         if t is None or t.size != size:
             if t is not None:
@@ -184,7 +184,7 @@ class CloudRenderer:
 
     def _trace(self, size, bsize, settings, values, history: int) -> moderngl.Texture:
         if not reprojects(settings):
-            target = self._target("trace", bsize, (4, 1), linear=True)
+            target = self._target("trace", bsize, (4, 1), linear=(0,))
             self._draw("clouds_trace", target.fbo, dict(values, u_stride=1, u_phase=(0, 0)))
             self.last_lookups = target
             self._resolved, self.reprojected_frames = None, 0
@@ -208,9 +208,9 @@ class CloudRenderer:
         offset = (self.frame_index // n * GOLDEN) % 1.0 if settings.jitter else 0.0
         self._draw("clouds_trace", fresh.fbo, dict(values, u_buffer=size, u_stride=d, u_phase=phase,
                                                    u_frame_offset=offset))
+        # linear, both: a turn reads the last frame and its traced flags between texels
         out = self._target("resolve_b" if last is self._targets.get("resolve_a") else "resolve_a", size, (4, 2),
-                           linear=True)
-        out.textures[1].filter = (moderngl.LINEAR, moderngl.LINEAR)  # a turn reads the traced flags between texels
+                           linear=(0, 1))
         fresh.textures[0].use(9)
         fresh.textures[1].use(10)
         if last is not None:
@@ -228,7 +228,7 @@ class CloudRenderer:
 
     def _temporal_aa(self, bsize, current: moderngl.Texture, values, valid: bool) -> moderngl.Texture:
         history = self._taa if valid else None
-        out = self._target("taa_b" if history is self._targets.get("taa_a") else "taa_a", bsize, (4,), linear=True)
+        out = self._target("taa_b" if history is self._targets.get("taa_a") else "taa_a", bsize, (4,), linear=(0,))
         self.taa_frames = self.taa_frames + 1 if history is not None else 1
         current.use(12)
         if history is not None:

@@ -210,7 +210,9 @@ class Lights3DRenderer:
                 stats.volume_triangles += self.volume_pass.mark(target.fbo, light.shadow, geometry, view_proj)
             stats.volumes_drawn += len(casters)
         elif light.shadow == "map":
-            shadow_map = self.maps.get(index) or self.maps.setdefault(index, ShadowMap(self.ctx, self.shaders))
+            if index not in self.maps:
+                self.maps[index] = ShadowMap(self.ctx, self.shaders)
+            shadow_map = self.maps[index]
             stats.maps_rendered += shadow_map.render(light, casters, scene_bounds(buffers), settings.map_size,
                                                      settings.pcf)
 
