@@ -81,6 +81,21 @@ def test_the_shadow_combo_sets_the_selected_lights_method(lights3d):
     assert state(window).scene.lights[0].shadow == "zfail"
 
 
+def test_the_direction_row_aims_a_spot_and_is_off_for_a_point_light(lights3d):
+    window, commands = lights3d
+    p = panel(window)
+    window.run("lights3d.select light 0")  # the point light: no direction
+    assert not p.l_direction.widget.isEnabled()
+    window.run("lights3d.select light 1")
+    assert p.l_direction.widget.isEnabled()
+    assert [box.value() for box in p.l_direction.boxes] == pytest.approx(state(window).scene.lights[1].direction)
+    commands.clear()
+    p.l_direction.boxes[1].setValue(0.0)  # from (-0.8, -0.6, 0) to (-0.8, 0, 0): level, normalised to (-1, 0, 0)
+    assert commands == ["light3d.set 1 direction -0.8 0.0 0.0"]
+    assert state(window).scene.lights[1].direction == pytest.approx((-1.0, 0.0, 0.0))
+    assert [box.value() for box in p.l_direction.boxes] == pytest.approx((-1.0, 0.0, 0.0))
+
+
 def test_a_gizmo_drag_moves_along_one_axis_in_one_undo_step(lights3d):
     window, commands = lights3d
     window.run("lights3d.select object 1")

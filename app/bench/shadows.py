@@ -16,9 +16,9 @@ triangles each). Per method and setting:
   (within the lights' reach) and `extruded_edges`; `shadow_ms`: one light after another, the volumes built
   (`build_ms`, numpy) and marked, or the map drawn and read (shadow_mask's cost).
 
-Methods: onepass, zpass, zfail and map (the renderer's default map: 1024 texels, PCF 3, bias 0.005) against
-the triangles; the map's size as its own series at PCF 1, 3 and 5 (with a small bias, 0.0002, so that the
-texels' error shows rather than the bias's); the bias as a series at 1024 texels, PCF 3.
+Methods: onepass, zpass, zfail and map (the renderer's default map: 1024 texels, PCF 3, bias 0.0002) against
+the triangles; the map's size as its own series at PCF 1, 3 and 5 (the default bias); the bias as a series at
+1024 texels, PCF 3.
 """
 from __future__ import annotations
 
@@ -37,7 +37,6 @@ from app.model.lights3d_render_settings import Lights3DRenderSettings
 SCENE = "default"
 CAMERA = Lights3DCamera(distance=250.0)
 VOLUME_METHODS = ("onepass", "zpass", "zfail")
-SMALL_BIAS = 0.0002  # below every mismatch the texels make here (docs/lights3d.md, the bias series)
 SPHERE, TORUS = 2, 3  # the default scene's objects the triangles knob tessellates
 
 
@@ -175,7 +174,7 @@ class ShadowsBench:
         out = [self.method(m, "triangles", p.triangles, lambda v, m=m: Setting(m, int(v), default_map))
                for m in (*VOLUME_METHODS, "map")]
         out += [self.method(f"map pcf{k}", "map_size", p.map_sizes, lambda v, k=k: Setting(
-                    "map", p.triangles[0], Lights3DRenderSettings(int(v), k, SMALL_BIAS))) for k in (1, 3, 5)]
+                    "map", p.triangles[0], replace(default_map, map_size=int(v), pcf=k))) for k in (1, 3, 5)]
         out.append(self.method("map bias", "bias", p.biases,
                                lambda v: Setting("map", p.triangles[0], replace(default_map, bias=float(v)))))
         return out

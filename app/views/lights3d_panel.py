@@ -22,14 +22,14 @@ def _combo(words) -> QComboBox:
     return box
 
 
-class _Position:
+class _Vector:
     """x, y, z spin boxes in one row; `send("x y z")` on each finished edit."""
 
-    def __init__(self, send) -> None:
+    def __init__(self, send, step: float = 5, decimals: int = 1) -> None:
         self.widget = QWidget()
         row = QHBoxLayout(self.widget)
         row.setContentsMargins(0, 0, 0, 0)
-        self.boxes = [spin(-MAX_COORD, MAX_COORD, 5, 1) for _ in range(3)]
+        self.boxes = [spin(-MAX_COORD, MAX_COORD, step, decimals) for _ in range(3)]
         for box in self.boxes:
             # Three in a row fit the dock only without arrows and without the width the range's longest text wants.
             box.setButtonSymbols(QAbstractSpinBox.ButtonSymbols.NoButtons)
@@ -75,7 +75,7 @@ class Lights3DPanel(QWidget):
 
         self.object_box = QGroupBox("Object")
         of = QFormLayout(self.object_box)
-        self.o_position = _Position(lambda xyz: self._object("object.move {i} " + xyz))
+        self.o_position = _Vector(lambda xyz: self._object("object.move {i} " + xyz))
         of.addRow("Position", self.o_position.widget)
         # Sizes have 1 to 4 numbers by kind (SIZE_NAMES): the rows past the kind's are hidden.
         self.o_size = [spin(0, MAX_SIZE, 1) for _ in range(MAX_SIZE_FIELDS)]
@@ -90,7 +90,9 @@ class Lights3DPanel(QWidget):
         lf = QFormLayout(self.light_box)
         self.l_kind = _combo(LIGHT_KINDS)
         self.l_kind.currentTextChanged.connect(lambda k: self._light("kind", k))
-        self.l_position = _Position(lambda xyz: self._light("position", xyz))
+        self.l_position = _Vector(lambda xyz: self._light("position", xyz))
+        # Where a spot or directional light shines; the command normalises it (a point light has none).
+        self.l_direction = _Vector(lambda xyz: self._light("direction", xyz), 0.1, 3)
         self.l_colour = ColorButton("Light colour", lambda c: self._light("colour", rgb_words(c)))
         self.l_range = spin(0.1, MAX_SIZE, 10, 1)
         self.l_range.valueChanged.connect(lambda v: self._light("range", repr(v)))
@@ -100,7 +102,8 @@ class Lights3DPanel(QWidget):
         self.l_angle.valueChanged.connect(lambda v: self._light("angle", repr(v)))
         self.l_shadow = _combo(SHADOW_METHODS)
         self.l_shadow.currentTextChanged.connect(lambda m: self._light("shadow", m))
-        for label, widget in (("Kind", self.l_kind), ("Position", self.l_position.widget), ("Colour", self.l_colour),
+        for label, widget in (("Kind", self.l_kind), ("Position", self.l_position.widget),
+                              ("Direction", self.l_direction.widget), ("Colour", self.l_colour),
                               ("Range", self.l_range), ("Falloff", self.l_falloff), ("Spot angle °", self.l_angle),
                               ("Shadow", self.l_shadow)):
             lf.addRow(label, widget)
@@ -117,7 +120,7 @@ class Lights3DPanel(QWidget):
         self.map_size.currentTextChanged.connect(lambda n: self._send(f"r_shadowMapSize {n}"))
         self.pcf = _combo(map(str, PCF_KERNELS))
         self.pcf.currentTextChanged.connect(lambda n: self._send(f"r_shadowPCF {n}"))
-        self.bias = spin(0, MAX_BIAS, 0.001, 4)
+        self.bias = spin(0, MAX_BIAS, 0.0001, 4)
         self.bias.valueChanged.connect(lambda v: self._send(f"r_shadowBias {v!r}"))
         for label, widget in (("Ambient", self.ambient), ("Shininess", self.shininess), ("Specular", self.specular),
                               ("Map size", self.map_size), ("PCF taps", self.pcf), ("Map bias", self.bias)):
@@ -218,6 +221,8 @@ class Lights3DPanel(QWidget):
         self.light_box.setTitle(f"Light {i}")
         self.l_kind.setCurrentText(light.kind)
         self.l_position.show(light.position)
+        self.l_direction.show(light.direction)
+        self.l_direction.widget.setEnabled(light.kind != "point")
         self.l_colour.show_color(light.colour)
         for box, value in ((self.l_range, light.range), (self.l_falloff, light.falloff), (self.l_angle, light.angle)):
             box.setValue(value)
