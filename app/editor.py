@@ -15,7 +15,7 @@ from app.console.console import Console
 from app.console.demo import Clock, MonotonicClock
 from app.console.demos import Demos
 from app.model.workspace import Workspace, Workspaces
-from app.model.workspaces import DEFAULT_WORKSPACE, built
+from app.model.workspaces import DEFAULT_WORKSPACE, WORKSPACES
 
 START_CONFIGS = ("default.cfg", "shadelab.cfg")
 
@@ -28,7 +28,7 @@ class Editor:
         self.console = Console()
         self.binds = Binds()
         self.lua = builtins.register(self.console, self.binds)
-        self.workspaces = Workspaces([info.state() for info in built()], DEFAULT_WORKSPACE)
+        self.workspaces = Workspaces([info.state() for info in WORKSPACES], DEFAULT_WORKSPACE)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.opening_commands, frame)
         core.register(self.console, self.workspaces)
         for state in self.workspaces:

@@ -118,7 +118,7 @@ def test_workspace_switcher(window):
     actions = window.workspace_actions
     assert [a.text() for a in actions.values()] == [w.title for w in WORKSPACES]
     assert actions["snowflake"].isChecked()
-    assert {n for n, a in actions.items() if a.isEnabled()} == {w.name for w in WORKSPACES if w.built}
+    assert all(a.isEnabled() for a in actions.values())
 
 
 def test_console_widget_runs_commands_with_history(window, qtbot):

@@ -148,13 +148,3 @@ def test_the_switcher_shows_it_and_its_panel_syncs(dummy, qtbot):
     window.run("sample 5")
     assert panel.text() == "count 5"
     assert window.viewport.tool is None  # no tool: the viewport takes no mouse edits
-
-
-def test_a_workspace_listed_before_its_state_exists_is_refused_by_name(monkeypatch):
-    later = WorkspaceInfo("later", "Later")  # its issue has not landed: no state class yet
-    monkeypatch.setattr("app.model.workspaces.WORKSPACES", [*WORKSPACES, later])
-    editor = Editor(configs=False)
-    before = editor.digest()
-    assert not editor.execute("workspace later")
-    assert "not built yet" in [line.text for line in editor.console.log if line.level == "error"][-1]
-    assert editor.digest() == before

@@ -35,8 +35,6 @@ def register(console: Console, workspaces: Workspaces) -> None:
             return
         if name not in names():
             raise CommandError(f"no workspace {name!r}; choose one of {', '.join(names())}")
-        if name not in workspaces:
-            raise CommandError(f"the {name} workspace is not built yet")
         workspaces.name = reg.scope = name
 
     def scene_files():

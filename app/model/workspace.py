@@ -54,11 +54,7 @@ def short_hash(*values) -> str:
 class WorkspaceInfo:
     name: str
     title: str
-    state: type[Workspace] | None = None  # None until its issue lands: the switcher shows it disabled
-
-    @property
-    def built(self) -> bool:
-        return self.state is not None
+    state: type[Workspace]
 
 
 class Workspaces:

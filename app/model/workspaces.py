@@ -21,8 +21,4 @@ def names() -> list[str]:
     return [w.name for w in WORKSPACES]
 
 
-def built() -> list[WorkspaceInfo]:
-    return [w for w in WORKSPACES if w.built]
-
-
 DEFAULT_WORKSPACE = "snowflake"  # the editor opens on it

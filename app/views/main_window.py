@@ -98,9 +98,7 @@ class MainWindow(QMainWindow):
         group = QActionGroup(self)
         actions = {}
         for info in WORKSPACES:
-            built = info.name in self.editor.workspaces
-            action = QAction(info.title, self, checkable=True, enabled=built)
-            action.setToolTip(info.title if built else f"{info.title}: not built yet")
+            action = QAction(info.title, self, checkable=True)
             action.triggered.connect(lambda _=False, n=info.name: self.run(f"workspace {n}"))
             group.addAction(action)
             bar.addAction(action)
