@@ -71,13 +71,18 @@ WRITERS = {
 }
 
 
+def load(editor: Editor, tmp_path, values: np.ndarray, name: str) -> vm.Volume:
+    """Write values to tmp_path/name in the format of its extension, load it in the editor; the volume."""
+    WRITERS[name.partition(".")[2]](tmp_path / name, values)
+    assert editor.execute(f"load {name}")
+    return volume(editor)
+
+
 @pytest.mark.parametrize("dtype", sorted(PHANTOMS))
 @pytest.mark.parametrize("kind", sorted(WRITERS))
 def test_each_dtype_and_format_loads_through_the_default_window(volume_editor, tmp_path, dtype, kind):
     values = phantom(dtype)
-    WRITERS[kind](tmp_path / f"scan.{kind}", values)
-    assert volume_editor.execute(f"load scan.{kind}")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, values, f"scan.{kind}")
     np.testing.assert_array_equal(vol.scalars.values, values)
     assert vol.scalars.values.dtype == values.dtype and vol.size == SHAPE[::-1]
     _background, base, step = PHANTOMS[dtype]
@@ -91,10 +96,8 @@ def test_each_dtype_and_format_loads_through_the_default_window(volume_editor, t
 
 def test_the_window_changes_without_reloading_and_each_change_is_one_undo_step(volume_editor, tmp_path):
     values = phantom("int16")
-    WRITERS["nrrd"](tmp_path / "ct.nrrd", values)
-    assert volume_editor.execute("load ct.nrrd")
+    vol = load(volume_editor, tmp_path, values, "ct.nrrd")
     (tmp_path / "ct.nrrd").unlink()  # nothing is read again
-    vol = volume(volume_editor)
     loaded, depth = vol.data.copy(), vol.undo_depth
     assert volume_editor.execute("vol.window -1000 20")  # 255 levels over 1020: exact quarters
     np.testing.assert_array_equal(vol.data, grey(values, -1000, 20))
@@ -115,9 +118,7 @@ def test_the_window_changes_without_reloading_and_each_change_is_one_undo_step(v
 
 
 def test_a_window_step_keeps_no_voxels(volume_editor, tmp_path):
-    WRITERS["npy"](tmp_path / "v.npy", phantom("float32"))
-    volume_editor.execute("load v.npy")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, phantom("float32"), "v.npy")
     held = vol._history_bytes
     for low in range(10):
         assert volume_editor.execute(f"vol.window {low * 0.1} 30")
@@ -125,9 +126,7 @@ def test_a_window_step_keeps_no_voxels(volume_editor, tmp_path):
 
 
 def test_window_and_colour_map_refusals_change_nothing(volume_editor, tmp_path):
-    WRITERS["npy"](tmp_path / "v.npy", phantom("uint16"))
-    volume_editor.execute("load v.npy")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, phantom("uint16"), "v.npy")
     before = (vol.digest(), vol.undo_depth)
     for line, needle in (("vol.window 5 5", "low must be below its high"), ("vol.window 9 2", "below"),
                          ("vol.window 3", "low and high"), ("vol.window 1 inf", "finite"),
@@ -142,9 +141,7 @@ def test_window_and_colour_map_refusals_change_nothing(volume_editor, tmp_path):
 def test_nan_is_transparent_and_infinities_clamp(volume_editor, tmp_path):
     values = phantom("float32")
     values[0, 0, :3] = (np.nan, np.inf, -np.inf)
-    WRITERS["nrrd"](tmp_path / "v.nrrd", values)
-    assert volume_editor.execute("load v.nrrd")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, values, "v.nrrd")
     assert vol.scalars.transfer == TransferFunction(0.75, 25.25)  # the finite values' percentiles
     assert [tuple(c) for c in vol.data[0, 0, :3]] == [(0, 0, 0, 0), (255, 255, 255, 255), (0, 0, 0, 0)]
     assert volume_editor.execute("vol.window")
@@ -162,9 +159,7 @@ def test_the_default_window_of_degenerate_volumes(values, window):
 
 def test_editing_bakes_the_window_in_and_undo_brings_the_scalars_back(volume_editor, tmp_path):
     values = phantom("int16")
-    WRITERS["tif"](tmp_path / "v.tif", values)
-    volume_editor.execute("load v.tif")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, values, "v.tif")
     scalars = vol.scalars
     assert volume_editor.execute("stroke.preview z 2 3 255 0 0 255 1 1 9 9")  # a stroke in progress bakes nothing
     assert vol.scalars is scalars
@@ -188,9 +183,7 @@ def test_editing_bakes_the_window_in_and_undo_brings_the_scalars_back(volume_edi
 
 def test_rotations_turn_the_scalars_with_the_voxels(volume_editor, tmp_path):
     values = phantom("uint16")
-    WRITERS["npy"](tmp_path / "v.npy", values)
-    volume_editor.execute("load v.npy")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, values, "v.npy")
     depth = vol.undo_depth
     for turn, axis in enumerate("xyz"):
         low = 1000 + turn
@@ -226,9 +219,7 @@ def malformed_files(tmp_path) -> list[tuple[str, str]]:
 
 
 def test_malformed_scalar_files_are_refused_and_change_nothing(volume_editor, tmp_path):
-    WRITERS["npy"](tmp_path / "good.npy", phantom("int16"))
-    volume_editor.execute("load good.npy")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, phantom("int16"), "good.npy")
     before = (vol.digest(), vol.undo_depth, vol.scalars)
     for name, needle in malformed_files(tmp_path):
         assert not volume_editor.execute(f"load {name}")
@@ -252,8 +243,8 @@ def test_a_scalar_volume_over_the_memory_limit_is_refused_before_reading(volume_
 
 def test_save_writes_the_scalars_where_the_format_holds_them_and_the_colours_elsewhere(volume_editor, tmp_path):
     values = phantom("int16")
-    WRITERS["npy"](tmp_path / "in.npy", values)
-    volume_editor.execute("load in.npy; vol.window -1000 20; save out.nrrd; save out.r3")
+    load(volume_editor, tmp_path, values, "in.npy")
+    volume_editor.execute("vol.window -1000 20; save out.nrrd; save out.r3")
     np.testing.assert_array_equal(read_volume(tmp_path / "out.nrrd"), values)
     np.testing.assert_array_equal(read_volume(tmp_path / "out.r3"), grey(values, -1000, 20))
     assert "the colours of window -1000..20" in infos(volume_editor)[-1]
@@ -262,8 +253,8 @@ def test_save_writes_the_scalars_where_the_format_holds_them_and_the_colours_els
 
 @pytest.mark.parametrize("dtype, window", [("int16", ""), ("float32", "vol.window 0.75 3.125")])
 def test_a_demo_recorded_from_a_scalar_volume_replays_to_it(volume_editor, tmp_path, dtype, window):
-    WRITERS["npy"](tmp_path / "in.npy", phantom(dtype))
-    volume_editor.execute(f"load in.npy; vol.colormap hot; {window}")  # int16: the default window, whole numbers
+    load(volume_editor, tmp_path, phantom(dtype), "in.npy")
+    volume_editor.execute(f"vol.colormap hot; {window}")  # int16: the default window, whole numbers
     start = volume(volume_editor).scalars.transfer
     volume_editor.execute("record scan")
     volume_editor.demos.clock.advance(0.5)
@@ -279,9 +270,7 @@ def test_a_demo_recorded_from_a_scalar_volume_replays_to_it(volume_editor, tmp_p
 
 
 def test_a_window_change_uploads_the_volume_once(gl, volume_editor, tmp_path):
-    WRITERS["nrrd"](tmp_path / "v.nrrd", phantom("int16"))
-    volume_editor.execute("load v.nrrd")
-    vol = volume(volume_editor)
+    vol = load(volume_editor, tmp_path, phantom("int16"), "v.nrrd")
     tracer = RayTracer(gl, ShaderLibrary(gl, [SHADERS]))
     fbo = gl.simple_framebuffer((32, 32))
     settings = TraceSettings(mode=7, steps=32)  # empty-space skipping: the distance field follows the alpha too
