@@ -125,6 +125,15 @@ def test_a_window_step_keeps_no_voxels(volume_editor, tmp_path):
     assert vol._history_bytes == held  # the colours are made again from the scalars, not stored
 
 
+def test_the_history_counts_a_scalar_step_the_same_going_out_as_coming_in():
+    vol = vm.Volume.new(2, 2, 2)
+    vol.replace_scalars(phantom("float64"))  # its step holds the 2x2x2 image; undone, it holds the scalar volume
+    vol.stroke("z", 0, 3, (255, 0, 0, 255), [(1, 1)])  # its step holds the scalars it baked
+    assert vol.undo() and vol.undo()
+    vol.set_voxel(0, 0, 0, (1, 2, 3, 255))  # drops both redo steps
+    assert vol._history_bytes == sum(step.nbytes for step in vol._undo) == 4  # the one voxel
+
+
 def test_window_and_colour_map_refusals_change_nothing(volume_editor, tmp_path):
     vol = load(volume_editor, tmp_path, phantom("uint16"), "v.npy")
     before = (vol.digest(), vol.undo_depth)

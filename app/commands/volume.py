@@ -329,7 +329,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         scalars = volume().require_scalars()
         if bounds is None:
             console.print(f"window {_window_text(scalars.transfer)} of {scalars.values.dtype} scalars "
-                          f"{_window_text(value_range(scalars.values))}, colour map {scalars.transfer.colormap}")
+                          f"{_span(*value_range(scalars.values))}, colour map {scalars.transfer.colormap}")
         else:
             low, high = bounds
             volume().set_transfer(replaced(scalars.transfer, low=low, high=high))
@@ -338,7 +338,8 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
                  "the minimum (what loading it chose)".format(*PERCENTILES))
     def window_auto() -> None:
         scalars = volume().require_scalars()
-        volume().set_transfer(replaced(scalars.transfer, **dict(zip(("low", "high"), default_window(scalars.values)))))
+        low, high = default_window(scalars.values)
+        volume().set_transfer(replaced(scalars.transfer, low=low, high=high))
 
     @checks.add("vol.colormap")
     def colormap_name(name: str) -> str:
@@ -359,8 +360,11 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         view.background = _rgba(r, g, b, 255)[:3]
 
 
-def _window_text(transfer: TransferFunction | tuple[float, float]) -> str:
-    low, high = (transfer.low, transfer.high) if isinstance(transfer, TransferFunction) else transfer
+def _window_text(transfer: TransferFunction) -> str:
+    return _span(transfer.low, transfer.high)
+
+
+def _span(low: float, high: float) -> str:
     return f"{low:g}..{high:g}"
 
 

@@ -110,11 +110,12 @@ class _Rotate:
 class _Replace:
     other: np.ndarray  # the whole image not currently shown
     scalars: Scalars | None  # and its scalars
+    nbytes: int  # what the replaced image held: fixed, as undo and redo swap images of other sizes in and out
     serial: int = 0
 
-    @property
-    def nbytes(self) -> int:
-        return self.other.nbytes + (self.scalars.nbytes if self.scalars else 0)
+    @classmethod
+    def of(cls, data: np.ndarray, scalars: Scalars | None) -> _Replace:
+        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0))
 
 
 @dataclass
@@ -405,7 +406,7 @@ class Volume:
         """Swap in a whole new image (a loaded file) as one undo step."""
         self._settle_preview()
         new = self._validated(data)
-        self._push(_Replace(self.data, self.scalars))
+        self._push(_Replace.of(self.data, self.scalars))
         self.data, self.scalars = new, None
         self._changed(None)
 
@@ -420,11 +421,12 @@ class Volume:
         scalars = Scalars(values, transfer or TransferFunction(*default_window(values)))
         data = np.empty(values.shape + (4,), np.uint8)
         colour(values, scalars.transfer, data)
-        self._push(_Replace(self.data, self.scalars))
+        self._push(_Replace.of(self.data, self.scalars))
         self.data, self.scalars = data, scalars
         self._changed(None)
 
     def require_scalars(self) -> Scalars:
+        """The scalars, or a VolumeError that says how a volume gets some."""
         if self.scalars is None:
             raise VolumeError("this volume has no scalars to window: load a 16-bit or float NRRD, TIFF or .npy "
                               "file (editing the voxels of a scalar volume bakes its window in; undo the edit to "
