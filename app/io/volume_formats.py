@@ -115,10 +115,10 @@ def _check_array(path: PathLike, shape: tuple[int, ...], dtype: np.dtype, max_by
     _check_shape(path, shape[:3], max_bytes, dtype.itemsize if _is_scalar(dtype) else 0)
 
 
-def _to_rgba(array: np.ndarray) -> np.ndarray:
-    """The RGBA volume is the only allocation: every step is uint8 and in place (np.where(array > 0, 255, 0)
-    would make an int64 array twice the RGBA volume's size). Scalars come back as they are, in native byte order
-    (swapped in place where the file's was not)."""
+def _as_volume(array: np.ndarray) -> np.ndarray:
+    """A read array as the volume readers return: scalars as they are, C-ordered in native byte order (swapped in
+    place where the file's was not); 8-bit arrays as RGBA, the only allocation: every step is uint8 and in place
+    (np.where(array > 0, 255, 0) would make an int64 array twice the RGBA volume's size)."""
     if _is_scalar(array.dtype):
         array = np.ascontiguousarray(array)
         if not array.dtype.isnative:
@@ -208,7 +208,7 @@ def _read_npy(path: PathLike, max_bytes: int) -> np.ndarray:
         _check_array(path, shape, dtype, max_bytes)
         f.seek(0)
         array = np.load(f, allow_pickle=False)
-    return _to_rgba(array)
+    return _as_volume(array)
 
 
 def _write_npy(path: PathLike, data: np.ndarray) -> None:
@@ -301,9 +301,9 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
     if "S" in series.axes:
         array = np.moveaxis(array, series.axes.index("S"), -1)
     # A statement of its own: should the reshape copy (page axes merged across planar samples), the original is
-    # freed before _to_rgba allocates the RGBA volume.
+    # freed before _as_volume allocates the RGBA volume.
     array = array.reshape(volume_shape)
-    return _to_rgba(array)
+    return _as_volume(array)
 
 
 def _write_tiff(path: PathLike, data: np.ndarray) -> None:
@@ -396,7 +396,7 @@ def _read_nrrd(path: PathLike, max_bytes: int) -> np.ndarray:
         _check_array(path, shape, dtype, max_bytes)
         n = math.prod(shape) * dtype.itemsize
         data = _read_exact(path, f, n) if encoding == "raw" else _nrrd_inflate(path, f, encoding, n)
-    return _to_rgba(np.frombuffer(data, dtype).reshape(shape))
+    return _as_volume(np.frombuffer(data, dtype).reshape(shape))
 
 
 def _nrrd_dtype(path: PathLike, header: dict) -> np.dtype:
