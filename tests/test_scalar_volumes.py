@@ -190,6 +190,14 @@ def test_editing_bakes_the_window_in_and_undo_brings_the_scalars_back(volume_edi
         assert vol.scalars is not None and volume_editor.execute(edit) and vol.scalars is None
 
 
+def test_scalars_too_big_for_the_undo_history_are_dropped_with_a_note(volume_editor, tmp_path):
+    vol = load(volume_editor, tmp_path, phantom("float64"), "v.npy")
+    vol.max_undo_bytes = vol.scalars.nbytes  # the stroke's step holds them and its voxels: over the cap
+    assert volume_editor.execute("stroke z 0 1 255 0 0 255 1 1")
+    assert vol.scalars is None and vol.undo_depth == 0
+    assert "do not fit the undo history: load the file again" in infos(volume_editor)[-1]
+
+
 def test_rotations_turn_the_scalars_with_the_voxels(volume_editor, tmp_path):
     values = phantom("uint16")
     vol = load(volume_editor, tmp_path, values, "v.npy")

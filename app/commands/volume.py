@@ -90,11 +90,16 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     def edit(change, *args, **kwargs) -> None:
         """A voxel edit; on a scalar volume it bakes the window into the colours, which the user should know."""
-        windowed = volume().scalars is not None
+        scalars = volume().scalars
         change(*args, **kwargs)
-        if windowed and volume().scalars is None:
+        if scalars is None or volume().scalars is not None:
+            return
+        if volume().undo_depth:  # the edit's step, holding the scalars
             console.print("the edit baked the window into the colours: the scalars are set aside; undo it to "
                           "change the window again")
+        else:
+            console.print(f"the edit baked the window into the colours, and the scalars ({scalars.nbytes >> 20} MiB) "
+                          "do not fit the undo history: load the file again to window it")
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
