@@ -73,13 +73,13 @@ class Editor:
         lines = []
         for state in self.workspaces:
             lines.append(f"workspace {state.name}")
-            lines += state.opening_commands(lambda state=state: self._snapshot(state, demo_path))
+            lines += state.opening_commands(lambda suffix=None, state=state: self._snapshot(state, demo_path, suffix))
         lines += [c.assignment() for _name, c in sorted(self.console.registry.cvars.items())]
         lines.append(f"workspace {self.workspace}")
         return lines
 
     @staticmethod
-    def _snapshot(state: Workspace, demo_path: Path) -> str:
-        path = demo_path.with_suffix(".start" + state.files.suffixes[0])
+    def _snapshot(state: Workspace, demo_path: Path, suffix: str | None = None) -> str:
+        path = demo_path.with_suffix(".start" + (suffix or state.files.suffixes[0]))
         state.files.save(str(path))
         return str(path.resolve())

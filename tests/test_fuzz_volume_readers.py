@@ -24,6 +24,7 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from app.io.volume_formats import MAX_SIDE, FormatError, read_volume
+from app.model.volume_scalars import SCALAR_TYPES
 
 EXAMPLES = 1000  # per reader
 MAX_BYTES = 1 << 20
@@ -40,7 +41,8 @@ def folder(tmp_path_factory) -> Path:
 
 
 def check(folder: Path, files: dict[str, bytes], name: str) -> None:
-    """Write files into an emptied folder and read `name`: FormatError, or a valid volume, in bounded memory."""
+    """Write files into an emptied folder and read `name`: FormatError, or a valid volume (RGBA, or the scalars of
+    a 16-bit or float file), in bounded memory."""
     shutil.rmtree(folder)
     folder.mkdir()
     for file_name, data in files.items():
@@ -54,7 +56,11 @@ def check(folder: Path, files: dict[str, bytes], name: str) -> None:
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
     assert peak <= PEAK_LIMIT, f"reading traced {peak} bytes"
-    if volume is not None:
+    if volume is not None and volume.ndim == 3:
+        assert volume.dtype in SCALAR_TYPES and volume.dtype.isnative and volume.flags.c_contiguous
+        assert all(1 <= n <= MAX_SIDE for n in volume.shape)
+        assert volume.size * (4 + volume.itemsize) <= MAX_BYTES  # the scalars and the colours they become
+    elif volume is not None:
         assert isinstance(volume, np.ndarray) and volume.dtype == np.uint8 and volume.flags.c_contiguous
         assert volume.ndim == 4 and volume.shape[3] == 4 and all(1 <= n <= MAX_SIDE for n in volume.shape[:3])
         assert volume.nbytes <= MAX_BYTES
@@ -83,8 +89,8 @@ def mutated(draw, valid: bytes) -> bytes:
     return bytes(data[:cut]) + draw(st.just(b"") | st.binary(max_size=16))
 
 
-def rng_volume(shape: tuple[int, ...], seed: int = 0) -> np.ndarray:
-    return np.random.default_rng(seed).integers(0, 256, shape, dtype=np.uint8)
+def rng_volume(shape: tuple[int, ...], seed: int = 0, dtype: str = "uint8") -> np.ndarray:
+    return np.random.default_rng(seed).integers(0, 256, shape, dtype=np.uint8).astype(dtype)
 
 
 def npy_bytes(array: np.ndarray, version: tuple[int, int] | None = None) -> bytes:
@@ -120,6 +126,8 @@ NPY = [
     npy_bytes(rng_volume((2, 3, 4, 3))),
     npy_bytes(np.asfortranarray(rng_volume((2, 3, 4, 4)))),
     npy_bytes(rng_volume((2, 3, 4)), version=(2, 0)),
+    npy_bytes(rng_volume((2, 3, 4), dtype=">i2")),
+    npy_bytes(np.asfortranarray(rng_volume((2, 3, 4), dtype="<f8"))),
 ]
 TIFF = [
     tiff_bytes(rng_volume((2, 3, 4)), photometric="minisblack"),
@@ -127,9 +135,12 @@ TIFF = [
     tiff_bytes(rng_volume((2, 4, 3, 4)), photometric="rgb", planarconfig="separate", extrasamples=["unassalpha"]),
     tiff_bytes(rng_volume((2, 3, 4)), photometric="minisblack", compression="zlib"),
     tiff_bytes(rng_volume((1, 16, 16)), photometric="minisblack", compression="lzma", tile=(16, 16)),
+    tiff_bytes(rng_volume((2, 3, 4), dtype="uint16"), photometric="minisblack"),
+    tiff_bytes(rng_volume((2, 3, 4), dtype="float32"), photometric="minisblack", compression="zlib"),
 ]
 NRRD = [nrrd_bytes(rng_volume((2, 3, 4)), "raw"), nrrd_bytes(rng_volume((2, 3, 4, 4)), "gzip"),
-        nrrd_bytes(rng_volume((2, 3, 4, 3)), "bzip2")]
+        nrrd_bytes(rng_volume((2, 3, 4, 3)), "bzip2"), nrrd_bytes(rng_volume((2, 3, 4), dtype=">i2"), "raw"),
+        nrrd_bytes(rng_volume((2, 3, 4), dtype="<f4"), "gzip"), nrrd_bytes(rng_volume((2, 3, 4), dtype="<f8"), "bzip2")]
 SLICES = [image_bytes(rng_volume((3, 4, 4)), "PNG"), image_bytes(rng_volume((3, 4)), "PNG"),
           image_bytes(rng_volume((3, 4, 3)), "BMP"), image_bytes(rng_volume((3, 4, 3)), "JPEG"),
           image_bytes(rng_volume((3, 4)), "GIF"), image_bytes(rng_volume((3, 4, 4)), "TGA")]
@@ -178,20 +189,22 @@ def test_r3_headers(folder, case):
     check(folder, {"v.r3": b"R3" + struct.pack("<HHH", w, h, d) + voxels}, "v.r3")
 
 
-NPY_DESCR = st.sampled_from(["|u1", "<u1", "|i1", "<u2", ">u2", "<f4", "|b1", "|O", "|V4", "<U3", "|S2", "bogus",
-                             [("a", "|u1")], 7])
+NPY_DESCR = {"|u1": 1, "<u1": 1, "|i1": 1, "<u2": 2, ">u2": 2, "<i2": 2, "<f4": 4, ">f8": 8, "<i8": 8, "<c8": 8,
+             "<f2": 2, "|b1": 1, "|O": 8, "|V4": 4, "<U3": 12, "|S2": 2, "bogus": 1}  # descr: bytes a voxel
 
 
 @st.composite
 def npy_headers(draw) -> bytes:
     shape = draw(st.lists(SIDES, max_size=5).map(tuple) | st.sampled_from(["(4,)", None, (2.5, 1)]))
-    header = repr({"descr": draw(NPY_DESCR), "fortran_order": draw(st.sampled_from([False, True, 0, "no"])),
+    descr = draw(st.sampled_from(sorted(NPY_DESCR)) | st.sampled_from([[("a", "|u1")], 7]))
+    header = repr({"descr": descr, "fortran_order": draw(st.sampled_from([False, True, 0, "no"])),
                    "shape": shape}).encode("latin1")
     major = draw(st.sampled_from([1, 2, 3, 0, 255]))
     length = struct.pack("<H" if major == 1 else "<I", len(header) + 1)
     if draw(st.booleans()):  # a length field that lies
         length = draw(st.binary(min_size=len(length), max_size=len(length)))
-    voxels = draw(payload(small_product(shape) if isinstance(shape, tuple) else -1))
+    product = small_product(shape) if isinstance(shape, tuple) else -1
+    voxels = draw(payload(product * NPY_DESCR.get(descr, 1) if isinstance(descr, str) and product >= 0 else product))
     return b"\x93NUMPY" + bytes([major, 0]) + length + header + b"\n" + voxels
 
 
@@ -210,19 +223,26 @@ NRRD_FIELDS = st.sampled_from([
 ])
 
 
+NRRD_TYPES = {"uchar": 1, "unsigned char": 1, "uint8": 1, "signed char": 1, "short": 2, "ushort": 2, "int": 4,
+              "float": 4, "double": 8, "int64": 8, "block": 1, "": 1}
+
+
 @st.composite
 def nrrd_headers(draw) -> bytes:
     sizes = draw(st.lists(SIDES, max_size=5))
+    kind = draw(st.sampled_from(sorted(NRRD_TYPES)))
     lines = [
         draw(st.sampled_from(["NRRD0004", "NRRD0001", "NRRD0005", "NRRDxyz"])),
-        "type: " + draw(st.sampled_from(["uchar", "unsigned char", "uint8", "short", "float", "block", ""])),
+        "type: " + kind,
         "dimension: " + draw(st.sampled_from([str(len(sizes)), "3", "-1", "three", "99999999999"])),
         "sizes: " + " ".join(map(str, sizes)),
         "encoding: " + draw(st.sampled_from(["raw", "gzip", "gz", "bzip2", "bz2", "ascii", "hex", "zip"])),
+        *draw(st.sampled_from([["endian: little"], ["endian: big"], ["endian: middle"], []])),  # wider types need one
         *draw(st.lists(NRRD_FIELDS, max_size=3)),
     ]
     lines = draw(st.permutations(lines[1:]).map(lambda rest: lines[:1] + rest))
-    voxels = draw(payload(small_product(sizes)))
+    product = small_product(sizes)
+    voxels = draw(payload(product * NRRD_TYPES[kind] if product >= 0 else -1))
     voxels = draw(st.sampled_from([voxels, gzip.compress(voxels), bz2.compress(voxels), zlib.compress(voxels)]))
     return ("\n".join(lines) + "\n\n").encode() + voxels
 
@@ -250,10 +270,19 @@ def tiff_file(entries: list[tuple[int, int, int, int]], data: bytes, order: str 
     return magic + struct.pack(order + "IH", 8, len(entries)) + b"".join(packed) + struct.pack(order + "I", 0) + data
 
 
+# BitsPerSample and SampleFormat (1 uint, 2 int, 3 float)
+TIFF_SAMPLES = [(8, 1), (16, 1), (16, 2), (32, 3), (64, 3), (32, 1), (64, 2)]
+
+
 @st.composite
 def tiff_headers(draw) -> bytes:
     entries = []
-    for tag, value in sorted(draw(st.sampled_from([TIFF_STRIPS, TIFF_TILES])).items()):
+    bits, sample_format = draw(st.sampled_from(TIFF_SAMPLES))
+    size = bits // 8
+    layout = draw(st.sampled_from([TIFF_STRIPS, TIFF_TILES]))
+    layout = {**layout, 258: bits, 339: sample_format,
+              **{tag: layout[tag] * size for tag in (279, 325) if tag in layout}}  # byte counts
+    for tag, value in sorted(layout.items()):
         if draw(st.integers(0, 9)) == 0:  # a tag left out
             continue
         edited = draw(st.integers(0, 3)) == 0
@@ -262,7 +291,7 @@ def tiff_headers(draw) -> bytes:
         entries.append((tag, kind, count, draw(SIDES.map(lambda n: n % 2**32)) if edited else value))
     compression = draw(st.sampled_from([1, 8, 34925, 5, 32773]))
     entries = [(t, k, c, compression if t == 259 and v == 1 else v) for t, k, c, v in entries]
-    voxels = draw(payload(12) | payload(256))
+    voxels = draw(payload(12 * size) | payload(256 * size))
     data = {1: voxels, 8: zlib.compress(voxels), 34925: lzma.compress(voxels)}.get(compression, voxels)
     return tiff_file(entries, data, draw(st.sampled_from("<>")))
 

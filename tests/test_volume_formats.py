@@ -4,6 +4,7 @@ from __future__ import annotations
 import bz2
 import gzip
 import io
+import math
 import os
 import struct
 import threading
@@ -189,6 +190,66 @@ def test_image_series_of_grey_rgb_and_palette_pngs(tmp_path):
     assert tuple(result[0, 2, 1]) == (255, 0, 0, 255) and result[0, 0, 0, 3] == 0
 
 
+# --- scalar volumes: 16-bit and float greyscale ----------------------------------------------------------------
+
+SCALAR_DTYPES = ["int8", "uint16", "int16", "uint32", "int32", "float32", "float64"]
+
+
+def scalar_array(dtype: str, order: str = "=") -> np.ndarray:
+    """Values spread over much of the type's range, negative ones where it has them, NaN and infinities in floats."""
+    info = np.iinfo(dtype) if np.dtype(dtype).kind in "iu" else np.finfo(dtype)
+    values = np.random.default_rng(7).uniform(max(info.min, -1e6), min(info.max, 1e6), SHAPE).astype(dtype)
+    if values.dtype.kind == "f":
+        values[0, 0, :3] = (np.nan, np.inf, -np.inf)
+    return values.astype(values.dtype.newbyteorder(order))
+
+
+def save_nrrd_scalars(encoding: str) -> Callable[[Path, np.ndarray], None]:
+    return lambda path, array: save_nrrd(path, array, encoding)
+
+
+@pytest.mark.parametrize("dtype", SCALAR_DTYPES)
+@pytest.mark.parametrize("order", ["<", ">"])
+@pytest.mark.parametrize("name, save", [
+    ("v.npy", save_npy), ("raw.nrrd", save_nrrd_scalars("raw")), ("gzip.nrrd", save_nrrd_scalars("gzip")),
+    ("bzip2.nrrd", save_nrrd_scalars("bzip2")),
+    ("v.tif", lambda path, array: tifffile.imwrite(path, array, photometric="minisblack",
+                                                   byteorder=array.dtype.byteorder.replace("|", "<"))),
+    ("zlib.tif", lambda path, array: tifffile.imwrite(path, array, photometric="minisblack", compression="zlib")),
+])
+def test_scalar_files_read_as_their_values_in_native_byte_order(tmp_path, dtype, order, name, save):
+    values = scalar_array(dtype, order)
+    save(tmp_path / name, values)
+    result = read_volume(tmp_path / name)
+    assert result.dtype == np.dtype(dtype) and result.dtype.isnative and result.flags.c_contiguous
+    np.testing.assert_array_equal(result, values)
+
+
+@pytest.mark.parametrize("dtype", SCALAR_DTYPES)
+@pytest.mark.parametrize("name", ["v.npy", "v.nrrd", "v.tif", "v.tiff"])
+def test_scalars_round_trip(tmp_path, dtype, name):
+    values = scalar_array(dtype)
+    write_volume(tmp_path / name, values)
+    np.testing.assert_array_equal(read_volume(tmp_path / name), values)
+    if name.endswith(".nrrd"):  # readable by others, in the same order as colour volumes
+        data, header = nrrd.read(str(tmp_path / name), index_order="C")
+        assert list(header["sizes"]) == [5, 7, 3] and data.dtype == values.dtype
+
+
+@pytest.mark.parametrize("name", ["v.r3", "s_%i.png"])
+def test_scalars_are_not_written_to_colour_formats(tmp_path, name):
+    with pytest.raises(FormatError, match=r"int16 scalars go into \.npy, \.nrrd, \.tif, \.tiff files"):
+        write_volume(tmp_path / name, scalar_array("int16"))
+    assert not list(tmp_path.iterdir())
+
+
+def test_the_size_limit_counts_the_scalars_and_their_colours(tmp_path):
+    save_nrrd(tmp_path / "v.nrrd", scalar_array("float64"))
+    voxels = math.prod(SHAPE)
+    refused(tmp_path / "v.nrrd", "its scalars and their colours", str(voxels * 12), max_bytes=voxels * 12 - 1)
+    assert read_volume(tmp_path / "v.nrrd", max_bytes=voxels * 12).shape == SHAPE
+
+
 # --- malformed files -------------------------------------------------------------------------------------------
 
 
@@ -231,8 +292,10 @@ def test_r3_header_over_the_size_limit_is_refused_before_reading(tmp_path):
 
 def test_npy_refusals(tmp_path):
     refused(write_file(tmp_path / "junk.npy", b"not numpy at all"), "not a valid .npy")
-    np.save(tmp_path / "u16.npy", GREY.astype(np.uint16))
-    refused(tmp_path / "u16.npy", "uint16", "8-bit")
+    np.save(tmp_path / "i64.npy", GREY.astype(np.int64))
+    refused(tmp_path / "i64.npy", "int64", "8-bit", "float32")
+    np.save(tmp_path / "u16rgb.npy", RGB.astype(np.uint16))
+    refused(tmp_path / "u16rgb.npy", "not a scalar volume", "(3, 7, 5, 3)")
     np.save(tmp_path / "flat.npy", GREY[0])
     refused(tmp_path / "flat.npy", "(7, 5)", "not a volume")
     np.save(tmp_path / "two.npy", np.zeros(SHAPE + (2,), np.uint8))
@@ -251,8 +314,10 @@ def test_npy_refusals(tmp_path):
 
 def test_tiff_refusals(tmp_path):
     refused(write_file(tmp_path / "junk.tif", b"II*\x00garbage"), "not a valid TIFF")
-    tifffile.imwrite(tmp_path / "u16.tif", GREY.astype(np.uint16), photometric="minisblack")
-    refused(tmp_path / "u16.tif", "uint16", "convert it to 8-bit")
+    tifffile.imwrite(tmp_path / "u16rgb.tif", RGB.astype(np.uint16), photometric="rgb")
+    refused(tmp_path / "u16rgb.tif", "uint16", "not a scalar volume")
+    tifffile.imwrite(tmp_path / "c64.tif", GREY.astype(np.complex64), photometric="minisblack")
+    refused(tmp_path / "c64.tif", "complex64", "8-bit")
     tifffile.imwrite(tmp_path / "hyper.tif", np.zeros((2, 3, 7, 5), np.uint8), photometric="minisblack")
     refused(tmp_path / "hyper.tif", "not a single stack")
     tifffile.imwrite(tmp_path / "big.tif", random_volume(), photometric="rgb")
@@ -269,8 +334,16 @@ def test_nrrd_refusals(tmp_path):
     raw = header.format(type="uchar", extra="").encode()
     refused(write_file(tmp_path / "short.nrrd", raw + bytes(104)), "truncated", "expected 105", "found 104")
     refused(write_file(tmp_path / "long.nrrd", raw + bytes(106)), "trailing", "found 106")
+    long64 = header.format(type="int64", extra="endian: little\n").encode() + bytes(840)
+    refused(write_file(tmp_path / "long64.nrrd", long64), "int64", "8-bit", "float64")
     short16 = header.format(type="short", extra="").encode() + bytes(210)
-    refused(write_file(tmp_path / "short16.nrrd", short16), "short", "8-bit")
+    refused(write_file(tmp_path / "short16.nrrd", short16), "short", "endian: little", "None")
+    refused(write_file(tmp_path / "middle.nrrd", header.format(type="short", extra="endian: middle\n").encode()
+                       + bytes(210)), "'middle'")
+    short_cut = header.format(type="short", extra="endian: little\n").encode()
+    refused(write_file(tmp_path / "shortcut.nrrd", short_cut + bytes(209)), "truncated", "expected 210", "found 209")
+    refused(write_file(tmp_path / "colour16.nrrd", b"NRRD0004\ntype: short\nendian: big\ndimension: 4\n"
+                       b"sizes: 4 5 7 3\nencoding: raw\n\n" + bytes(840)), "not a scalar volume")
     detached = header.format(type="uchar", extra="data file: /etc/passwd\n").encode()
     refused(write_file(tmp_path / "detached.nrrd", detached), "detached")
     huge = b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4096 4096 4096\nencoding: raw\n\n"
@@ -402,23 +475,29 @@ def traced_peak(read: Callable[[], np.ndarray]) -> tuple[np.ndarray, int]:
         tracemalloc.stop()
 
 
-@pytest.mark.parametrize("name, channels, save", [
-    ("gzip.nrrd", (), lambda path, array: save_nrrd(path, array)),
-    ("raw.nrrd", (), lambda path, array: save_nrrd(path, array, "raw")),
-    ("bzip2.nrrd", (3,), lambda path, array: save_nrrd(path, array, "bzip2")),
-    ("grey.npy", (), save_npy),
-    ("rgb.npy", (3,), save_npy),
-    ("grey.tif", (), save_tiff),
-    ("rgb.tif", (3,), save_tiff),
-    ("v.r3", (4,), write_volume),
-    ("s_%i.png", (4,), write_volume),
+@pytest.mark.parametrize("name, channels, dtype, save", [
+    ("gzip.nrrd", (), "uint8", lambda path, array: save_nrrd(path, array)),
+    ("raw.nrrd", (), "uint8", lambda path, array: save_nrrd(path, array, "raw")),
+    ("bzip2.nrrd", (3,), "uint8", lambda path, array: save_nrrd(path, array, "bzip2")),
+    ("grey.npy", (), "uint8", save_npy),
+    ("rgb.npy", (3,), "uint8", save_npy),
+    ("grey.tif", (), "uint8", save_tiff),
+    ("rgb.tif", (3,), "uint8", save_tiff),
+    ("v.r3", (4,), "uint8", write_volume),
+    ("s_%i.png", (4,), "uint8", write_volume),
+    # scalars come back as they are: the volume returned is the scalars
+    ("int16.nrrd", (), ">i2", lambda path, array: save_nrrd(path, array)),
+    ("uint16.nrrd", (), "<u2", lambda path, array: save_nrrd(path, array, "bzip2")),
+    ("float32.nrrd", (), ">f4", lambda path, array: save_nrrd(path, array, "raw")),
+    ("float64.npy", (), ">f8", save_npy),
+    ("int16.tif", (), "<i2", save_tiff),
 ])
-def test_a_read_peaks_within_twice_the_volume(tmp_path, name, channels, save):
+def test_a_read_peaks_within_twice_the_volume(tmp_path, name, channels, dtype, save):
     # 8x4096x4096 grey gzip NRRD peaked at 3.5 times its 512 MiB volume: an int64 np.where made the alpha.
-    array = np.random.default_rng(5).integers(0, 3, PEAK_SHAPE + channels, dtype=np.uint8)
+    array = np.random.default_rng(5).integers(0, 3, PEAK_SHAPE + channels).astype(dtype)
     save(tmp_path / name, array)
     result, peak = traced_peak(lambda: read_volume(tmp_path / name))
-    assert result.shape == PEAK_SHAPE + (4,)
+    assert result.shape == (PEAK_SHAPE + (4,) if dtype == "uint8" else PEAK_SHAPE)
     assert peak <= 2 * result.nbytes + PEAK_SLACK, f"peak {peak} for a {result.nbytes}-byte volume"
 
 

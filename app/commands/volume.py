@@ -3,17 +3,20 @@ tests rely on them. Colour components are 0-255 integers; slices are (axis, inde
 from __future__ import annotations
 
 import math
+from dataclasses import replace as replaced
+from pathlib import Path
 
 from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
-from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
+from app.io.volume_formats import SCALAR_SUFFIXES, SUPPORTED, FormatError, read_volume, write_volume
 from app.model import volume as volume_model
 from app.model.camera3d import OrbitCamera
 from app.model.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume import AXES, MAX_COORD, MAX_SIDE, Volume
 from app.model.volume_samples import SAMPLES, make
+from app.model.volume_scalars import COLORMAPS, PERCENTILES, TransferFunction, default_window, value_range
 from app.model.volume_workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -73,15 +76,37 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         return state.volume
 
     def replace(data, what: str) -> None:
-        volume().replace(data)
+        """An RGBA volume, or the scalars of a 16-bit or float file, coloured through the default window."""
+        if data.ndim == 3:
+            volume().replace_scalars(data)
+        else:
+            volume().replace(data)
         state.clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
+        if (scalars := volume().scalars) is not None:
+            console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} (percentiles "
+                          "{:g}..{:g} of the values above the minimum), ".format(*PERCENTILES) +
+                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it")
+
+    def edit(change, *args, **kwargs) -> None:
+        """A voxel edit; on a scalar volume it bakes the window into the colours, which the user should know."""
+        scalars = volume().scalars
+        change(*args, **kwargs)
+        if scalars is None or volume().scalars is not None:
+            return
+        if volume().undo_depth:  # the edit's step, holding the scalars
+            console.print("the edit baked the window into the colours: the scalars are set aside; undo it to "
+                          "change the window again")
+        else:
+            console.print(f"the edit baked the window into the colours, and the scalars ({scalars.nbytes >> 20} MiB) "
+                          "do not fit the undo history: load the file again to window it")
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
         replace(Volume.new(w, h, d).data, "new volume")
 
-    @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd)",
+    @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
+                 "float ones through a window)",
                  completer=volume_files)
     def load(path: str) -> None:
         found = files.find(path, console) if "%" not in path else None  # a series names its slices
@@ -92,13 +117,19 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             raise CommandError(str(exc)) from None
         replace(data, f"loaded {path}")
 
+    def as_scalars(path: str) -> bool:
+        """A scalar volume saves its scalars in the formats that hold them, its colours in the others."""
+        return volume().scalars is not None and Path(path).suffix.lower() in SCALAR_SUFFIXES
+
     def write(path: str) -> None:
+        scalars = volume().scalars
         try:
-            write_volume(path, volume().data)
+            write_volume(path, scalars.values if as_scalars(path) else volume().data)
         except FormatError as exc:
             raise CommandError(str(exc)) from None
 
-    @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically)", recorded=False,
+    @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically); a scalar volume "
+                 "saves its scalars to .npy, .nrrd and .tif, its colours to .r3 and image series", recorded=False,
                  completer=volume_files)
     def save(path: str) -> None:
         target = files.writable(console, path)
@@ -106,9 +137,17 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             write(target)
         except OSError as exc:
             raise CommandError(str(exc)) from None
-        console.print(f"saved {target}")
+        scalars = volume().scalars
+        if scalars is None:
+            console.print(f"saved {target}")
+        elif as_scalars(target):
+            console.print(f"saved {target}: the {scalars.values.dtype} scalars (the window is not kept in the file)")
+        else:
+            console.print(f"saved {target}: the colours of window {_window_text(scalars.transfer)} (the scalars "
+                          "are not kept in the file)")
 
-    # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3
+    # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
+    # scalar volume)
     state.files = SceneFiles(load, write, (".r3", *(s for s in SUPPORTED if s != ".r3")))
 
     @checks.add("sample")
@@ -132,7 +171,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     @reg.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel")
     def voxel(*args: int) -> None:
-        volume().set_voxel(*voxel_args(*args))
+        edit(volume().set_voxel, *voxel_args(*args))
 
     @checks.add("stroke", "volume")
     def stroke_args(axis, index, size, r, g, b, a, coords):
@@ -144,7 +183,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     @reg.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                  "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)")
     def stroke(axis, index, size, r, g, b, a, coords) -> None:
-        volume().stroke(*stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
+        edit(volume().stroke, *stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
     @reg.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                  "Show a stroke in progress (the painter, while the mouse is down); not recorded", recorded=False,
@@ -164,7 +203,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int",
                  "Flood-fill the region of one colour around (x, y) within a slice")
     def fill(*args) -> None:
-        volume().fill(*fill_args(*args))
+        edit(volume().fill, *fill_args(*args))
 
     checks.add("rotate")(_axis)
 
@@ -176,7 +215,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     @reg.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)")
     def smooth() -> None:
-        volume().smooth()
+        edit(volume().smooth)
 
     checks.add("pick", "volume")(lambda x, y, z: volume().pick(x, y, z))
 
@@ -276,11 +315,62 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         a = math.radians(degrees)
         view.light = (x * math.cos(a) + z * math.sin(a), y, -x * math.sin(a) + z * math.cos(a))
 
+    # --- scalar volumes: the transfer function ---------------------------------------------------------------
+
+    @checks.add("vol.window")
+    def window_args(low: float | None = None, high: float | None = None) -> tuple[float, float] | None:
+        if high is None:
+            if low is not None:
+                raise CommandError("give the window's low and high values, or neither to show it")
+            return None
+        if not low < high:
+            raise CommandError(f"the window's low must be below its high, got {low:g} {high:g}")
+        return low, high
+
+    @reg.command("vol.window", "[low:float] [high:float]", "Show or set a scalar volume's window: values at low and "
+                 "below are transparent, at high and above opaque, the colour map in between")
+    def window(*args: float) -> None:
+        bounds = window_args(*args)
+        scalars = volume().require_scalars()
+        if bounds is None:
+            console.print(f"window {_window_text(scalars.transfer)} of {scalars.values.dtype} scalars "
+                          f"{_span(*value_range(scalars.values))}, colour map {scalars.transfer.colormap}")
+        else:
+            low, high = bounds
+            volume().set_transfer(replaced(scalars.transfer, low=low, high=high))
+
+    @reg.command("vol.window.auto", "", "Set a scalar volume's window to percentiles {:g}..{:g} of its values above "
+                 "the minimum (what loading it chose)".format(*PERCENTILES))
+    def window_auto() -> None:
+        scalars = volume().require_scalars()
+        low, high = default_window(scalars.values)
+        volume().set_transfer(replaced(scalars.transfer, low=low, high=high))
+
+    @checks.add("vol.colormap")
+    def colormap_name(name: str) -> str:
+        if name not in COLORMAPS:
+            raise CommandError(f"no colour map {name!r}; choose one of {', '.join(COLORMAPS)}")
+        return name
+
+    @reg.command("vol.colormap", "name", "Colour a scalar volume's window with " + ", ".join(COLORMAPS),
+                 completer=lambda p: [c for c in COLORMAPS if c.startswith(p)])
+    def colormap(name: str) -> None:
+        scalars = volume().require_scalars()
+        volume().set_transfer(replaced(scalars.transfer, colormap=colormap_name(name)))
+
     checks.add("vol.background")(lambda r, g, b: _rgba(r, g, b, 255))
 
     @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)")
     def background(r: int, g: int, b: int) -> None:
         view.background = _rgba(r, g, b, 255)[:3]
+
+
+def _window_text(transfer: TransferFunction) -> str:
+    return _span(transfer.low, transfer.high)
+
+
+def _span(low: float, high: float) -> str:
+    return f"{low:g}..{high:g}"
 
 
 def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:

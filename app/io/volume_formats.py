@@ -6,9 +6,13 @@ the file); the voxel size is checked against `max_bytes` before any voxel data i
 peaks at twice the returned volume's size. Only regular files are opened (app.io.regular_file). Writers go
 through app.io.atomic, so a failed save never replaces a good file with a half-written one.
 
-Greyscale arrays (.npy, TIFF, NRRD) are densities: grey goes into R, G and B and alpha is 255 where the voxel is
-non-zero, 0 elsewhere, so empty space stays clear. Greyscale *images* in a series are pictures: they get alpha 255
-unless the image itself says which pixels are transparent.
+Greyscale arrays (.npy, TIFF, NRRD) of 8-bit values are densities: grey goes into R, G and B and alpha is 255
+where the voxel is non-zero, 0 elsewhere, so empty space stays clear. Greyscale arrays of wider integers or floats
+(SCALAR_TYPES: CT, MRI, microscopy) are scalars: the reader returns them as they are, (depth, height, width) in
+native byte order, and the model colours them through a transfer function (app/model/volume_scalars.py); their
+size counts the colours they become, 4 bytes a voxel, besides their own. The array formats also write scalars.
+Greyscale *images* in a series are pictures: they get alpha 255 unless the image itself says which pixels are
+transparent.
 """
 from __future__ import annotations
 
@@ -38,6 +42,7 @@ from PIL import Image, UnidentifiedImageError
 from app.io.atomic import Batch, write_bytes
 from app.io.json_file import array, read_versioned, validator
 from app.io.regular_file import open_regular
+from app.model.volume_scalars import SCALAR_TYPES
 
 MAX_SIDE = 4096
 DEFAULT_MAX_BYTES = 2 * 2**30
@@ -72,37 +77,53 @@ def _library_errors(path: PathLike, what: str) -> Iterator[None]:
         raise FormatError(f"{path} is not a valid {what}: {exc or type(exc).__name__}") from exc
 
 
-def _check_shape(path: PathLike, shape: tuple[int, ...], max_bytes: float = math.inf) -> None:
-    """shape is (depth, height, width); the RGBA volume it becomes must fit max_bytes."""
+def _check_shape(path: PathLike, shape: tuple[int, ...], max_bytes: float = math.inf, scalar_bytes: int = 0) -> None:
+    """shape is (depth, height, width); the RGBA volume it becomes, and its scalars, must fit max_bytes."""
     d, h, w = (int(n) for n in shape)
     size = f"{w}x{h}x{d}"
     if min(d, h, w) < 1:
         raise FormatError(f"{path}: volume size {size} (width x height x depth) has an empty side")
     if max(d, h, w) > MAX_SIDE:
         raise FormatError(f"{path}: volume size {size} exceeds {MAX_SIDE} voxels a side")
-    if d * h * w * 4 > max_bytes:
-        raise FormatError(
-            f"{path}: a {size} volume needs {d * h * w * 4} bytes, over the size limit of {max_bytes} bytes"
-        )
+    need = d * h * w * (4 + scalar_bytes)
+    if need > max_bytes:
+        what = " (its scalars and their colours)" if scalar_bytes else ""
+        raise FormatError(f"{path}: a {size} volume needs {need} bytes{what}, over the size limit of {max_bytes} bytes")
+
+
+def _is_scalar(dtype: np.dtype) -> bool:
+    return dtype.newbyteorder("=") in SCALAR_TYPES
+
+
+_SCALAR_NAMES = ", ".join(str(t) for t in SCALAR_TYPES)
 
 
 def _check_array(path: PathLike, shape: tuple[int, ...], dtype: np.dtype, max_bytes: int) -> None:
-    """The array layouts .npy, TIFF and NRRD share: (d, h, w) grey, (d, h, w, 3) RGB or (d, h, w, 4) RGBA, uint8."""
-    if dtype != np.uint8:
-        raise FormatError(
-            f"{path}: voxels are {dtype}; Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first"
-        )
+    """The array layouts .npy, TIFF and NRRD share: (d, h, w) grey, (d, h, w, 3) RGB or (d, h, w, 4) RGBA, uint8;
+    or (d, h, w) scalars of SCALAR_TYPES."""
+    if dtype != np.uint8 and not _is_scalar(dtype):
+        raise FormatError(f"{path}: voxels are {dtype}; Shadelab reads 8-bit (uint8) volumes and scalar volumes of "
+                          f"{_SCALAR_NAMES}")
+    if _is_scalar(dtype) and len(shape) != 3:
+        raise FormatError(f"{path}: {dtype} array of shape {tuple(shape)} is not a scalar volume; expected (depth, "
+                          "height, width): one value a voxel (colour volumes are 8-bit)")
     if not (len(shape) == 3 or len(shape) == 4 and shape[3] in (3, 4)):
         raise FormatError(
             f"{path}: array shape {tuple(shape)} is not a volume; expected (depth, height, width) greyscale "
             "or (depth, height, width, 3 or 4) RGB/RGBA"
         )
-    _check_shape(path, shape[:3], max_bytes)
+    _check_shape(path, shape[:3], max_bytes, dtype.itemsize if _is_scalar(dtype) else 0)
 
 
-def _to_rgba(array: np.ndarray) -> np.ndarray:
-    """The RGBA volume is the only allocation: every step is uint8 and in place (np.where(array > 0, 255, 0)
-    would make an int64 array twice the RGBA volume's size)."""
+def _as_volume(array: np.ndarray) -> np.ndarray:
+    """A read array as the volume readers return: scalars as they are, C-ordered in native byte order (swapped in
+    place where the file's was not); 8-bit arrays as RGBA, the only allocation: every step is uint8 and in place
+    (np.where(array > 0, 255, 0) would make an int64 array twice the RGBA volume's size)."""
+    if _is_scalar(array.dtype):
+        array = np.ascontiguousarray(array)
+        if not array.dtype.isnative:
+            array = array.byteswap(inplace=array.flags.writeable).view(array.dtype.newbyteorder("="))
+        return array
     if array.ndim == 4 and array.shape[3] == 4:
         return np.ascontiguousarray(array)
     rgba = np.empty(array.shape[:3] + (4,), np.uint8)
@@ -134,9 +155,16 @@ def _read_exact(path: PathLike, f: BinaryIO, n: int) -> bytearray:
 
 
 def _check_volume(path: PathLike, data: np.ndarray) -> None:
-    if not isinstance(data, np.ndarray) or data.dtype != np.uint8 or data.ndim != 4 or data.shape[3] != 4:
+    """An RGBA volume, or scalars for a format that holds them (SCALAR_SUFFIXES)."""
+    scalars = isinstance(data, np.ndarray) and data.ndim == 3 and _is_scalar(data.dtype)
+    if scalars and Path(path).suffix.lower() not in SCALAR_SUFFIXES:
+        raise FormatError(f"cannot write {path}: {data.dtype} scalars go into {', '.join(SCALAR_SUFFIXES)} files; "
+                          f"{Path(path).suffix} holds colours")
+    if not scalars and (not isinstance(data, np.ndarray) or data.dtype != np.uint8 or data.ndim != 4
+                        or data.shape[3] != 4):
         what = f"{data.dtype} array of shape {data.shape}" if isinstance(data, np.ndarray) else type(data).__name__
-        raise FormatError(f"cannot write {path}: a volume is a (depth, height, width, 4) uint8 array, not a {what}")
+        raise FormatError(f"cannot write {path}: a volume is a (depth, height, width, 4) uint8 array or "
+                          f"(depth, height, width) scalars, not a {what}")
     _check_shape(path, data.shape[:3])
 
 
@@ -180,7 +208,7 @@ def _read_npy(path: PathLike, max_bytes: int) -> np.ndarray:
         _check_array(path, shape, dtype, max_bytes)
         f.seek(0)
         array = np.load(f, allow_pickle=False)
-    return _to_rgba(array)
+    return _as_volume(array)
 
 
 def _write_npy(path: PathLike, data: np.ndarray) -> None:
@@ -231,7 +259,7 @@ def _check_segments(path: PathLike, f: BinaryIO, keyframe: tifffile.TiffPage, pa
 
 
 def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
-    """Pages are z slices. 16-bit and float TIFFs are refused rather than scaled: the right mapping is the user's call.
+    """Pages are z slices. 16-bit and float greyscale stacks are scalars: the model's window maps them to colours.
 
     tifffile only logs a broken page chain and returns the pages before it, so anything it logs is an error here:
     a damaged file must not load as a thinner volume.
@@ -273,22 +301,36 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
     if "S" in series.axes:
         array = np.moveaxis(array, series.axes.index("S"), -1)
     # A statement of its own: should the reshape copy (page axes merged across planar samples), the original is
-    # freed before _to_rgba allocates the RGBA volume.
+    # freed before _as_volume allocates the RGBA volume.
     array = array.reshape(volume_shape)
-    return _to_rgba(array)
+    return _as_volume(array)
 
 
 def _write_tiff(path: PathLike, data: np.ndarray) -> None:
     buffer = io.BytesIO()
-    tifffile.imwrite(buffer, data, photometric="rgb", extrasamples=["unassalpha"])  # straight (not premultiplied) alpha
+    if data.ndim == 3:
+        tifffile.imwrite(buffer, data, photometric="minisblack")
+    else:  # straight (not premultiplied) alpha
+        tifffile.imwrite(buffer, data, photometric="rgb", extrasamples=["unassalpha"])
     write_bytes(path, buffer.getvalue())
 
 
 # --- NRRD ------------------------------------------------------------------------------------------------------
 
-_NRRD_UINT8 = ("uchar", "unsigned char", "uint8", "uint8_t")
+# NRRD's type names (the spec's, as pynrrd reads them) of the types Shadelab reads: uint8 and SCALAR_TYPES.
+_NRRD_TYPES = {
+    **dict.fromkeys(("uchar", "unsigned char", "uint8", "uint8_t"), "u1"),
+    **dict.fromkeys(("signed char", "int8", "int8_t"), "i1"),
+    **dict.fromkeys(("short", "short int", "signed short", "signed short int", "int16", "int16_t"), "i2"),
+    **dict.fromkeys(("ushort", "unsigned short", "unsigned short int", "uint16", "uint16_t"), "u2"),
+    **dict.fromkeys(("int", "signed int", "int32", "int32_t"), "i4"),
+    **dict.fromkeys(("uint", "unsigned int", "uint32", "uint32_t"), "u4"),
+    "float": "f4", "double": "f8",
+}
+_NRRD_ENDIAN = {"little": "<", "big": ">"}
 _NRRD_ENCODINGS = ("raw", "gzip", "gz", "bzip2", "bz2")
 _NRRD_MAX_HEADER = 1 << 16
+_PIECE = 1 << 16  # bytes read, and inflated, at a time
 
 
 def _nrrd_header_lines(path: PathLike, f: BinaryIO) -> list[bytes]:
@@ -306,16 +348,28 @@ def _nrrd_header_lines(path: PathLike, f: BinaryIO) -> list[bytes]:
 
 
 def _nrrd_inflate(path: PathLike, f: BinaryIO, encoding: str, n: int) -> bytearray:
-    """Decompress at most n + 1 bytes: a stream that inflates beyond its header's sizes is refused, not unpacked."""
-    inflater = bz2.BZ2Decompressor() if encoding.startswith("bz") else zlib.decompressobj(zlib.MAX_WBITS | 32)
-    data = bytearray()
+    """Decompress into a buffer of n bytes, a piece of at most _PIECE bytes at a time (so a read holds the voxel data
+    and one piece): a stream that inflates beyond its header's sizes is refused, not unpacked."""
+    bz = encoding.startswith("bz")
+    inflater = bz2.BZ2Decompressor() if bz else zlib.decompressobj(zlib.MAX_WBITS | 32)
+    data, filled, pending = bytearray(n), 0, b""
     with _library_errors(path, f"NRRD file ({encoding} data)"):
-        while not inflater.eof and len(data) <= n and (chunk := f.read(1 << 20)):
-            data += inflater.decompress(chunk, n + 1 - len(data))
-    if len(data) > n or inflater.unused_data or f.read(1):
+        while not inflater.eof:
+            fresh = b""
+            if inflater.needs_input if bz else not pending:
+                fresh = pending = f.read(_PIECE)
+            piece = inflater.decompress(pending, min(_PIECE, n + 1 - filled))
+            pending = b"" if bz else inflater.unconsumed_tail  # zlib hands back what it did not take
+            if filled + len(piece) > n:
+                raise FormatError(f"{path} has trailing data: more than the {n} bytes of voxel data its sizes describe")
+            data[filled:filled + len(piece)] = piece
+            filled += len(piece)
+            if not piece and not fresh:  # nothing more to read and nothing made of it: the stream stops short
+                break
+    if inflater.unused_data or pending or f.read(1):
         raise FormatError(f"{path} has trailing data: more than the {n} bytes of voxel data its sizes describe")
-    if not inflater.eof or len(data) < n:
-        raise FormatError(f"{path} is truncated: expected {n} bytes of voxel data, {encoding} data holds {len(data)}")
+    if not inflater.eof or filled < n:
+        raise FormatError(f"{path} is truncated: expected {n} bytes of voxel data, {encoding} data holds {filled}")
     return data
 
 
@@ -329,11 +383,7 @@ def _read_nrrd(path: PathLike, max_bytes: int) -> np.ndarray:
             raise FormatError(f"{path}: detached NRRD data (a 'data file' field) is not supported")
         if any(header.get(field, 0) != 0 for field in ("line skip", "lineskip", "byte skip", "byteskip")):
             raise FormatError(f"{path}: NRRD line/byte skips are not supported")
-        if header.get("type") not in _NRRD_UINT8:
-            raise FormatError(
-                f"{path}: voxels are {header.get('type')}; "
-                "Shadelab reads 8-bit (uint8) volumes, convert it to 8-bit first"
-            )
+        dtype = _nrrd_dtype(path, header)
         encoding = header.get("encoding")
         if encoding not in _NRRD_ENCODINGS:
             raise FormatError(f"{path}: NRRD encoding {encoding!r} is not supported ({', '.join(_NRRD_ENCODINGS)})")
@@ -343,16 +393,31 @@ def _read_nrrd(path: PathLike, max_bytes: int) -> np.ndarray:
         # NRRD lists sizes fastest axis first: "sizes: 4 w h d" for a colour volume, components first. Reversed,
         # that is numpy's C order (d, h, w, 4), what pynrrd's index_order='C' returns; 'F' would give (4, w, h, d).
         shape = tuple(int(n) for n in reversed(sizes))
-        _check_array(path, shape, np.dtype(np.uint8), max_bytes)
-        n = math.prod(shape)
+        _check_array(path, shape, dtype, max_bytes)
+        n = math.prod(shape) * dtype.itemsize
         data = _read_exact(path, f, n) if encoding == "raw" else _nrrd_inflate(path, f, encoding, n)
-    return _to_rgba(np.frombuffer(data, np.uint8).reshape(shape))
+    return _as_volume(np.frombuffer(data, dtype).reshape(shape))
+
+
+def _nrrd_dtype(path: PathLike, header: dict) -> np.dtype:
+    """The voxels' type, with the byte order a multi-byte type must state."""
+    code = _NRRD_TYPES.get(header.get("type"))
+    if code is None:
+        raise FormatError(f"{path}: voxels are {header.get('type')}; Shadelab reads 8-bit (uint8) volumes and scalar "
+                          f"volumes of {_SCALAR_NAMES}")
+    if code[1] == "1":
+        return np.dtype(code)
+    if header.get("endian") not in _NRRD_ENDIAN:
+        raise FormatError(f"{path}: a NRRD file of {header['type']} voxels must say 'endian: little' or 'endian: "
+                          f"big', not {header.get('endian')!r}")
+    return np.dtype(_NRRD_ENDIAN[header["endian"]] + code)
 
 
 def _write_nrrd(path: PathLike, data: np.ndarray) -> None:
     buffer = io.BytesIO()
-    header = {"encoding": "gzip", "kinds": ["RGBA-color", "domain", "domain", "domain"]}
-    nrrd.write(buffer, data, header, compression_level=6, index_order="C")  # C: sizes come out as 4 w h d
+    kinds = ["domain"] * 3 if data.ndim == 3 else ["RGBA-color", "domain", "domain", "domain"]
+    # C order: sizes come out as 4 w h d (w h d for scalars); pynrrd states the byte order of wider types
+    nrrd.write(buffer, data, {"encoding": "gzip", "kinds": kinds}, compression_level=6, index_order="C")
     write_bytes(path, buffer.getvalue())
 
 
@@ -532,6 +597,7 @@ _WRITERS: dict[str, Callable[[PathLike, np.ndarray], None]] = {
 
 # Image extensions only as numbered series: a path with %i (or %d, %03i...) in its file name.
 SUPPORTED: tuple[str, ...] = tuple(_READERS)
+SCALAR_SUFFIXES = (".npy", ".nrrd", ".tif", ".tiff")  # the formats that hold scalars, read and written
 
 
 def _unsupported(action: str, path: PathLike) -> FormatError:
@@ -543,7 +609,8 @@ def _unsupported(action: str, path: PathLike) -> FormatError:
 
 
 def read_volume(path: PathLike, max_bytes: int = DEFAULT_MAX_BYTES) -> np.ndarray:
-    """The (depth, height, width, 4) uint8 volume in path, chosen by extension; FormatError for anything wrong."""
+    """The (depth, height, width, 4) uint8 volume in path, or the (depth, height, width) scalars of a 16-bit or
+    float file (SCALAR_TYPES); chosen by extension; FormatError for anything wrong."""
     reader = _READERS.get(Path(path).suffix.lower())
     if reader is None:
         raise _unsupported("read", path)

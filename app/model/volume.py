@@ -14,6 +14,8 @@ from itertools import islice
 import numpy as np
 from scipy import ndimage
 
+from app.model.volume_scalars import Scalars, TransferFunction, check_values, colour, default_window, native_copy
+
 AXES = ("x", "y", "z")
 MAX_SIDE = 4096          # voxels a side; also the largest brush
 MAX_COORD = 1 << 24      # stroke points beyond this are no mouse position: refuse before the line maths overflows
@@ -81,15 +83,19 @@ class Box:
 
 @dataclass
 class _Patch:
-    """A changed sub-box; `other` holds its contents in the state not currently shown (swapped on undo/redo)."""
+    """A changed sub-box; `other` holds its contents in the state not currently shown (swapped on undo/redo).
+    An edit of a scalar volume bakes its window into the colours: `scalars` holds the scalars in the state not
+    shown, as `other` does the voxels (and `baked` their size, counted whichever state holds them)."""
 
     box: Box
     other: np.ndarray
     serial: int = 0  # when it was pushed: a batch groups the steps pushed after its mark
+    scalars: Scalars | None = None
+    baked: int = 0
 
     @property
     def nbytes(self) -> int:
-        return self.other.nbytes
+        return self.other.nbytes + self.baked
 
 
 @dataclass
@@ -103,11 +109,20 @@ class _Rotate:
 @dataclass
 class _Replace:
     other: np.ndarray  # the whole image not currently shown
+    scalars: Scalars | None  # and its scalars
+    nbytes: int  # what the replaced image held: fixed, as undo and redo swap images of other sizes in and out
     serial: int = 0
 
-    @property
-    def nbytes(self) -> int:
-        return self.other.nbytes
+    @classmethod
+    def of(cls, data: np.ndarray, scalars: Scalars | None) -> _Replace:
+        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0))
+
+
+@dataclass
+class _Window:
+    transfer: TransferFunction  # the scalars' transfer function not currently shown
+    nbytes: int = 0  # the colours are made again from the scalars
+    serial: int = 0
 
 
 @dataclass
@@ -122,19 +137,21 @@ class _Group:
         return sum(s.nbytes for s in self.steps)
 
 
-_Step = _Patch | _Rotate | _Replace | _Group
+_Step = _Patch | _Rotate | _Replace | _Window | _Group
 
 
 def _fmt_bytes(n: int) -> str:
     return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / 2**20:.1f} MiB"
 
 
-def _check_size(w: int, h: int, d: int) -> None:
+def _check_size(w: int, h: int, d: int, scalar_bytes: int = 0) -> None:
+    """scalar_bytes: the size of a scalar volume's value, kept beside its colours."""
     if min(w, h, d) < 1 or max(w, h, d) > MAX_SIDE:
         raise VolumeError(f"volume sides must be within 1..{MAX_SIDE}, got {w} x {h} x {d}")
-    need = w * h * d * 4
+    need = w * h * d * (4 + scalar_bytes)
     if need > MAX_BYTES:
-        raise VolumeError(f"a {w} x {h} x {d} volume needs {_fmt_bytes(need)} of RGBA data,"
+        what = "RGBA data and scalars" if scalar_bytes else "RGBA data"
+        raise VolumeError(f"a {w} x {h} x {d} volume needs {_fmt_bytes(need)} of {what},"
                           f" over the {_fmt_bytes(MAX_BYTES)} limit")
 
 
@@ -228,11 +245,17 @@ def _line(p0: tuple[int, int], p1: tuple[int, int], lo: tuple[int, int], hi: tup
 
 
 class Volume:
-    """The voxels, their undo history, and a record of changed boxes for consumers such as GPU uploads."""
+    """The voxels, their undo history, and a record of changed boxes for consumers such as GPU uploads.
+
+    A volume loaded from scalars (`replace_scalars`) keeps them in `scalars`: its voxels are their colours
+    through the transfer function, made again whenever that changes (`set_transfer`). Editing voxels (a
+    stroke, fill, voxel or smoothing) bakes the window into the colours: the scalars are set aside with that
+    edit's undo step, so undoing it brings them back. Rotations turn the scalars with the voxels."""
 
     def __init__(self, data: np.ndarray, *, max_undo_steps: int = UNDO_STEPS,
                  max_undo_bytes: int = UNDO_BYTES) -> None:
         self.data = self._validated(data)
+        self.scalars: Scalars | None = None
         self.version = 0
         self.max_undo_steps = max_undo_steps
         self.max_undo_bytes = max_undo_bytes
@@ -383,9 +406,41 @@ class Volume:
         """Swap in a whole new image (a loaded file) as one undo step."""
         self._settle_preview()
         new = self._validated(data)
-        self._push(_Replace(self.data))
-        self.data = new
+        self._push(_Replace.of(self.data, self.scalars))
+        self.data, self.scalars = new, None
         self._changed(None)
+
+    def replace_scalars(self, values: np.ndarray, transfer: TransferFunction | None = None) -> None:
+        """Swap in a scalar volume (a loaded 16-bit or float file) as one undo step, coloured through `transfer`
+        (by default the window from the values' percentiles, grey). The size is checked before anything is
+        allocated; the values are copied."""
+        self._settle_preview()
+        d, h, w = check_values(values)
+        _check_size(w, h, d, values.itemsize)
+        values = native_copy(values)
+        scalars = Scalars(values, transfer or TransferFunction(*default_window(values)))
+        data = np.empty(values.shape + (4,), np.uint8)
+        colour(values, scalars.transfer, data)
+        self._push(_Replace.of(self.data, self.scalars))
+        self.data, self.scalars = data, scalars
+        self._changed(None)
+
+    def require_scalars(self) -> Scalars:
+        """The scalars, or a VolumeError that says how a volume gets some."""
+        if self.scalars is None:
+            raise VolumeError("this volume has no scalars to window: load a 16-bit or float NRRD, TIFF or .npy "
+                              "file (editing the voxels of a scalar volume bakes its window in; undo the edit to "
+                              "window it again)")
+        return self.scalars
+
+    def set_transfer(self, transfer: TransferFunction) -> bool:
+        """Colour the scalars through another window or colour map, as one undo step; False if it is the same."""
+        self._settle_preview()
+        if transfer == self.require_scalars().transfer:
+            return False
+        self._push(_Window(self.scalars.transfer))
+        self._recolour(transfer)
+        return True
 
     # --- undo / redo ----------------------------------------------------------------------------
 
@@ -469,6 +524,9 @@ class Volume:
     def digest(self) -> str:
         h = hashlib.sha256("{}x{}x{};".format(*self.size).encode())
         h.update(self.data.data)
+        if self.scalars is not None:  # a plain RGBA volume's digest is as it always was
+            h.update(f";{self.scalars.values.dtype.str};{self.scalars.transfer!r};".encode())
+            h.update(self.scalars.values.data)
         return h.hexdigest()[:16]
 
     # --- internals ------------------------------------------------------------------------------
@@ -598,12 +656,25 @@ class Volume:
             self._preview = _Patch(box, before)
             self._changed(box)
             return box
-        self._push(_Patch(box, before))
+        patch = _Patch(box, before)
+        if self.scalars is not None:  # the edit bakes the window in: its step keeps the scalars
+            patch.scalars, patch.baked, self.scalars = self.scalars, self.scalars.nbytes, None
+        self._push(patch)
         self._changed(box)
         return box
 
+    def _recolour(self, transfer: TransferFunction) -> None:
+        """Every voxel again from the scalars: the texture uploads the volume once."""
+        self.scalars = Scalars(self.scalars.values, transfer)
+        colour(self.scalars.values, transfer, self.data)
+        self._changed(self.full_box())
+
     def _rotate(self, axis: str, turns: int) -> None:
         self.data = np.ascontiguousarray(np.rot90(self.data, turns, axes=_ROT90_AXES[axis]))
+        if self.scalars is not None:
+            values = np.ascontiguousarray(np.rot90(self.scalars.values, turns, axes=_ROT90_AXES[axis]))
+            values.flags.writeable = False
+            self.scalars = Scalars(values, self.scalars.transfer)
         self._changed(None)
 
     def _apply(self, step: _Step, undo: bool) -> None:
@@ -612,14 +683,20 @@ class Volume:
             shown = view.copy()
             view[...] = step.other
             step.other = shown
+            self.scalars, step.scalars = step.scalars, self.scalars
             self._changed(step.box)
         elif isinstance(step, _Rotate):
             self._rotate(step.axis, -step.turns if undo else step.turns)
         elif isinstance(step, _Group):
             for inner in reversed(step.steps) if undo else step.steps:
                 self._apply(inner, undo)
+        elif isinstance(step, _Window):
+            shown = self.scalars.transfer
+            self._recolour(step.transfer)
+            step.transfer = shown
         else:
             self.data, step.other = step.other, self.data
+            self.scalars, step.scalars = step.scalars, self.scalars
             self._changed(None)
 
     def _push(self, step: _Step) -> None:

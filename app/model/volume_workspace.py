@@ -58,11 +58,15 @@ class VolumeWorkspace(Workspace):
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.digest(), "volume.view": short_hash(self.view.key())}
 
-    def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
+    def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
-        snapshot file beside the demo."""
-        v = self.view
-        if self.volume.digest() == _default_digest():
+        snapshot file beside the demo, a scalar volume's scalars into an .npy and its window into commands."""
+        v, scalars = self.view, self.volume.scalars
+        if scalars is not None:
+            t = scalars.transfer
+            lines = [f"load {shlex.quote(snapshot('.npy'))}", f"vol.colormap {t.colormap}",
+                     f"vol.window {t.low!r} {t.high!r}"]
+        elif self.volume.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
             lines = [f"load {shlex.quote(snapshot())}"]

@@ -40,9 +40,10 @@ class Workspace:
         """Short hashes of the model and of the camera, by part name (the `digest` command prints them)."""
         raise NotImplementedError
 
-    def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
+    def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild this state from any other: a demo's opening lines. `snapshot()` saves the
-        scene beside the demo and returns its path, for state too big for command lines."""
+        scene beside the demo and returns its path, for state too big for command lines; `snapshot(suffix)`
+        saves it in another of its formats than `files.suffixes[0]`."""
         raise NotImplementedError
 
 

@@ -15,6 +15,7 @@ from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QHBoxLayout, 
 
 from app.model.volume import AXES
 from app.views.keys import key_name
+from app.views.transfer_panel import TransferPanel
 
 NEIGHBOUR_OPACITY = 0.22  # the faint neighbouring slices under transparent voxels
 PAN_STEP = 0.1            # of the canvas per key press
@@ -233,6 +234,8 @@ class SlicePainter(QWidget):
         layout.addLayout(top)
         layout.addLayout(tool_row)
         layout.addWidget(self.canvas, 1)
+        self.transfer = TransferPanel(state, run)  # a scalar volume's window and colour map
+        layout.addWidget(self.transfer)
         self.axis.currentTextChanged.connect(lambda a: self._set_slice(a, self.state.view.index))
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
         self.size.valueChanged.connect(lambda s: run(f"brush_size {s}"))
@@ -247,6 +250,7 @@ class SlicePainter(QWidget):
 
     def sync(self) -> None:
         """Show the model's values without sending them back as commands."""
+        self.transfer.sync()
         view, vol = self.state.view, self.state.volume
         cvars = self.editor.console.registry.cvars
         for widget, setter, value in ((self.axis, "setCurrentText", view.axis),

@@ -1,0 +1,155 @@
+"""Scalar volumes (16-bit and float CT, MRI, microscopy...): the values as loaded and the transfer function that
+colours them into the RGBA volume.
+
+The transfer function is a window (low, high) and a colour map: a value's place in the window, t = (v - low) /
+(high - low) clamped to 0..1, picks the colour from the map and the alpha from t itself, so values at or below
+`low` are transparent and the colours grow opaque towards `high`. t is quantised to 256 levels (the RGBA
+volume's own resolution) and looked up in a 256-entry table, in slabs of CHUNK voxels, so colouring a volume
+holds the RGBA volume and about 3 MiB of temporaries. NaN values are transparent; -inf and +inf clamp.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+# The dtypes a scalar file may hold; uint8 grey files stay densities painted directly (app/io/volume_formats.py).
+SCALAR_TYPES = tuple(np.dtype(t) for t in ("int8", "uint16", "int16", "uint32", "int32", "float32", "float64"))
+CHUNK = 1 << 18           # voxels coloured at once: float64 temporaries of 2 MiB
+WINDOW_SAMPLE = 1 << 20   # voxels the default window's percentiles are taken from
+PERCENTILES = (1.0, 99.0)
+
+# Colour maps as control points (t, (r, g, b)), linearly interpolated: small tables instead of matplotlib.
+# viridis: matplotlib's at t = 0, 1/8, ..., 1; hot and bone follow matplotlib's ramps (black, red at 3/8,
+# yellow at 3/4, white; bone: grey with a blue tint).
+COLORMAPS: dict[str, tuple[tuple[float, tuple[int, int, int]], ...]] = {
+    "grey": ((0.0, (0, 0, 0)), (1.0, (255, 255, 255))),
+    "hot": ((0.0, (10, 0, 0)), (0.375, (255, 0, 0)), (0.75, (255, 255, 0)), (1.0, (255, 255, 255))),
+    "bone": ((0.0, (0, 0, 0)), (0.375, (81, 81, 113)), (0.75, (166, 198, 198)), (1.0, (255, 255, 255))),
+    "viridis": ((0.0, (68, 1, 84)), (0.125, (72, 40, 120)), (0.25, (62, 73, 137)), (0.375, (49, 104, 142)),
+                (0.5, (38, 130, 142)), (0.625, (31, 158, 137)), (0.75, (53, 183, 121)), (0.875, (110, 206, 88)),
+                (1.0, (253, 231, 37))),
+}
+
+
+class ScalarError(ValueError):
+    """A window, colour map or scalar array the volume refuses; the message is meant for the user."""
+
+
+@dataclass(frozen=True)
+class TransferFunction:
+    low: float
+    high: float
+    colormap: str = "grey"
+
+    def __post_init__(self) -> None:
+        for name in ("low", "high"):  # floats, so a window of whole numbers has one form (repr, digests)
+            object.__setattr__(self, name, float(getattr(self, name)))
+        if not (math.isfinite(self.low) and math.isfinite(self.high)) or self.low >= self.high:
+            raise ScalarError(f"the window needs finite low < high, got {self.low!r} .. {self.high!r}")
+        if self.colormap not in COLORMAPS:
+            raise ScalarError(f"no colour map {self.colormap!r}; choose one of {', '.join(COLORMAPS)}")
+
+    def table(self) -> np.ndarray:
+        """(256, 4) uint8: entry i is the colour and alpha of t = i / 255."""
+        return _table(self.colormap)
+
+
+@dataclass(frozen=True)
+class Scalars:
+    """The loaded values, (depth, height, width) in native byte order, read-only; and how they are coloured."""
+
+    values: np.ndarray
+    transfer: TransferFunction
+
+    @property
+    def nbytes(self) -> int:
+        return self.values.nbytes
+
+
+@lru_cache(maxsize=None)
+def _table(name: str) -> np.ndarray:
+    points = COLORMAPS[name]
+    t = np.linspace(0.0, 1.0, 256)
+    stops = [p for p, _ in points]
+    table = np.empty((256, 4), np.uint8)
+    for c in range(3):
+        table[:, c] = np.interp(t, stops, [rgb[c] for _, rgb in points]).round()
+    table[:, 3] = np.arange(256)  # alpha from the value
+    table.flags.writeable = False
+    return table
+
+
+def check_values(values: np.ndarray) -> tuple[int, int, int]:
+    """The (depth, height, width) of an array of a SCALAR_TYPES dtype (either byte order), else ScalarError."""
+    if not isinstance(values, np.ndarray) or values.ndim != 3 or values.dtype.newbyteorder("=") not in SCALAR_TYPES:
+        raise ScalarError(f"scalars must be a (depth, height, width) array of {', '.join(map(str, SCALAR_TYPES))}, "
+                          f"got {getattr(values, 'dtype', type(values).__name__)} of shape "
+                          f"{getattr(values, 'shape', None)}")
+    return values.shape
+
+
+def native_copy(values: np.ndarray) -> np.ndarray:
+    """A read-only, C-ordered, native-endian copy: the model's own, which nobody writes to."""
+    copy = np.array(values, dtype=values.dtype.newbyteorder("="), order="C", copy=True)
+    copy.flags.writeable = False
+    return copy
+
+
+def value_range(values: np.ndarray) -> tuple[float, float]:
+    """The least and greatest value, NaN left out (NaN, NaN if that is all there is)."""
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN array
+        return float(np.nanmin(values)), float(np.nanmax(values))
+
+
+def default_window(values: np.ndarray) -> tuple[float, float]:
+    """The 1st and 99th percentiles of the finite values above the volume's minimum.
+
+    The minimum is left out because scanners fill the background or the outside of their field of view with
+    one value (0 in MRI and microscopy, -1024 or -3024 in CT): counted, it drags the low end down so that air
+    comes out as fog. Taken from at most WINDOW_SAMPLE evenly strided voxels. A window the percentiles
+    collapse (a mask of two values) widens to min..max; a constant volume gets min..min + 1.
+    """
+    flat = values.reshape(-1)
+    sample = flat[:: max(1, flat.size // WINDOW_SAMPLE)]
+    if sample.dtype.kind == "f":
+        sample = sample[np.isfinite(sample)]
+    if not sample.size:
+        return 0.0, 1.0
+    least, most = sample.min(), sample.max()
+    above = sample[sample > least]
+    low, high = (float(p) for p in np.percentile(above, PERCENTILES)) if above.size else (least, least)
+    if low >= high:
+        low, high = float(least), float(most)
+    if sample.dtype.kind in "iu":  # whole numbers for whole-number data
+        low, high = math.floor(low), math.ceil(high)
+    else:
+        low, high = float(f"{low:.6g}"), float(f"{high:.6g}")
+    return (low, high) if low < high else (low, low + 1.0)
+
+
+def colour(values: np.ndarray, transfer: TransferFunction, out: np.ndarray) -> None:
+    """Write the colours of `values` (d, h, w) into `out` (d, h, w, 4) uint8, C-contiguous, in place."""
+    if out.shape != values.shape + (4,) or out.dtype != np.uint8 or not out.flags.c_contiguous:
+        raise ScalarError(f"cannot colour {values.shape} scalars into a {out.dtype} array of shape {out.shape}")
+    table = transfer.table()
+    work = np.result_type(values.dtype, np.float32)  # float64 for 32-bit integers and doubles
+    scale = 255.0 / (transfer.high - transfer.low)
+    flat_in, flat_out = values.reshape(-1), out.reshape(-1, 4)
+    t = np.empty(min(CHUNK, flat_in.size), work)
+    index = np.empty(t.size, np.uint8)
+    for start in range(0, flat_in.size, CHUNK):
+        block = flat_in[start:start + CHUNK]
+        n = block.size
+        np.subtract(block, transfer.low, out=t[:n], dtype=work)
+        t[:n] *= scale
+        t[:n] += 0.5  # round to the nearest level
+        np.clip(t[:n], 0.0, 255.0, out=t[:n])
+        if values.dtype.kind == "f":
+            t[:n][np.isnan(t[:n])] = 0.0  # NaN: transparent
+        index[:n] = t[:n]  # truncates: floor of t + 0.5
+        np.take(table, index[:n], axis=0, out=flat_out[start:start + n])
