@@ -35,6 +35,8 @@ class ColorButton(QPushButton):
         self.setStyleSheet(f"background-color: {q.name()}; color: {'black' if q.lightnessF() > 0.5 else 'white'}")
 
     def _pick(self) -> None:
-        picked = QColorDialog.getColor(QColor.fromRgbF(*self.color), self, self.title)
+        # The window is the dialog's parent, not this button: a child would inherit the button's style sheet and
+        # be painted all over in the swatch's colour.
+        picked = QColorDialog.getColor(QColor.fromRgbF(*self.color), self.window(), self.title)
         if picked.isValid():
             self.chosen((picked.redF(), picked.greenF(), picked.blueF()))
