@@ -8,7 +8,11 @@ import time
 from pathlib import Path
 from shlex import quote as shlex_quote
 
-HEADLESS = ("render", "bench", "exec")
+VERBS = {  # the headless verbs and their one-line help (shadelab --help lists them under the editor's options)
+    "render": "draw one frame of a workspace headless (EGL) into a PNG",
+    "bench": "measure speed against accuracy; write DIR/<technique>.csv and .png",
+    "exec": "run .cfg/.lua/.demo files and -c commands headless (shadelab exec -h)",
+}
 MAX_SETTLING_FRAMES = 64  # `render` draws a still scene until its renderer's temporal histories are full
 EXEC_USAGE = """usage: shadelab exec [FILE | -c COMMAND]...
 
@@ -35,15 +39,15 @@ def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="shadelab",
                                 description="Shadelab: a workbench for real-time lighting and volume techniques.")
     sub = p.add_subparsers(dest="verb", metavar="{render,bench,exec}")
-    sub.add_parser("exec", help="run .cfg/.lua/.demo files and -c commands headless (shadelab exec -h)")
-    r = sub.add_parser("render", help="draw one frame of a workspace headless (EGL) into a PNG")
+    sub.add_parser("exec", help=VERBS["exec"])
+    r = sub.add_parser("render", help=VERBS["render"])
     r.add_argument("workspace", choices=[n for n in names() if n in RENDERERS])
     r.add_argument("--scene", metavar="FILE", help="scene file to load first (scene.load)")
     r.add_argument("--cmd", action="append", default=[], metavar="COMMAND",
                    help="console command to run before drawing (repeatable, in order)")
     r.add_argument("--size", type=_size, default=(640, 480), metavar="WxH")
     r.add_argument("--out", required=True, metavar="PNG")
-    b = sub.add_parser("bench", help="measure speed against accuracy; write DIR/<technique>.csv and .png")
+    b = sub.add_parser("bench", help=VERBS["bench"])
     b.add_argument("technique", choices=sorted(TECHNIQUES))
     b.add_argument("--quick", action="store_true", help="fewer settings and runs, small images (under a minute)")
     b.add_argument("--out", default="bench-out", metavar="DIR")
@@ -215,13 +219,30 @@ def ensure_qt_app(offscreen: bool = False):
     return app
 
 
+def editor(argv: list[str]) -> int:
+    """The editor, once its arguments make sense and there is a display to show it on."""
+    from app.console.files import find
+    from app.views.application import editor_parser, run_editor
+    from app.views.display import display_problem
+
+    p = editor_parser()
+    p.epilog = "headless verbs (shadelab VERB -h for each one's options):\n" + "\n".join(
+        f"  shadelab {verb:<8} {text}" for verb, text in VERBS.items())
+    args = p.parse_args(argv)
+    if args.file is not None and find(args.file) is None:  # as `exec`, `play`... find it: the resources too
+        p.error(f"{args.file!r} is neither a verb ({', '.join(VERBS)}) nor a file")
+    problem = display_problem()
+    if problem is not None:
+        print(f"shadelab: {problem}", file=sys.stderr)
+        return 1
+    return run_editor(args)
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["exec"]:
         return run_exec(argv[1:])
-    if argv[:1] and argv[0] in HEADLESS + ("-h", "--help"):
+    if argv[:1] and argv[0] in VERBS:
         args = parser().parse_args(argv)
         return {"render": render, "bench": bench}[args.verb](args)
-    from app.views.application import run_editor
-
-    return run_editor(argv)
+    return editor(argv)

@@ -29,10 +29,11 @@ def set_surface_format() -> None:
 
 
 def editor_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="shadelab", epilog="headless: shadelab render ... | shadelab bench ...",
+    p = argparse.ArgumentParser(prog="shadelab", formatter_class=argparse.RawDescriptionHelpFormatter,
                                 description="Start the Shadelab editor (on its embedded default scene).")
     p.add_argument("file", nargs="?", help="a .cfg, .lua or .demo to run after start-up, or a file to open")
-    p.add_argument("--cmd", action="append", default=[], metavar="COMMAND", help="console command to run at start")
+    p.add_argument("--cmd", action="append", default=[], metavar="COMMAND",
+                   help="console command to run at start (repeatable, in order, after FILE)")
     p.add_argument("--size", default="1400x860", metavar="WxH", help="window size")
     p.add_argument("--screenshot", metavar="PNG", help="save a picture of the window once drawn, then quit")
     return p
@@ -44,10 +45,10 @@ def startup_command(path: str) -> str:
     return f"{verb} {shlex.quote(path)}"
 
 
-def run_editor(argv: list[str]) -> int:
+def run_editor(args: argparse.Namespace) -> int:
+    """The editor on `args` from editor_parser (app/cli.py checks them, and the display, first)."""
     from app.views.main_window import MainWindow
 
-    args = editor_parser().parse_args(argv)
     set_surface_format()
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("Shadelab")
