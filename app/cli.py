@@ -72,11 +72,18 @@ def terminal_progress(stream, width: int = 30):
 
 
 def render(args) -> int:
+    from app.console.files import check_folder
+    from app.console.registry import CommandError
     from app.editor import Editor
     from app.gl.headless import OffscreenTarget, create_context, release_context
     from app.gl.workspace_renderer import RENDERERS, WorkspaceRenderer
     from app.io.png import write_png
 
+    try:
+        check_folder(Path(args.out), args.out)  # before any work: a save never makes folders
+    except CommandError as exc:
+        print(f"shadelab render: {exc}", file=sys.stderr)
+        return 1
     editor = Editor()
     editor.console.log_listeners.append(
         lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout))

@@ -83,8 +83,6 @@ class Demos:
             if self.recorder is not None:
                 raise CommandError(f"already recording {self.recorder.path}; stop first")
             path = files.writable(self.console, _demo_path(name))
-            if not path.parent.is_dir():
-                raise CommandError(f"no folder {path.parent}")
             self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble(path))
             self.console.print(f"recording to {path}")
 

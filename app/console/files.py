@@ -68,16 +68,24 @@ def readable(console: Console, name: str) -> Path:
 
 def writable(console: Console, name: str) -> Path:
     """Where a command may write `name`: as given for the user's own lines; else inside the user folder,
-    where a relative name lands, or CommandError."""
+    where a relative name lands, or CommandError. Either way into a folder that exists (check_folder)."""
     path = Path(name).expanduser()
-    if console.trusted:
-        return path
-    root = _real(config_dir())
-    target = _real(root / path)  # an absolute path stays as it is
-    if not _inside(target, root):
-        raise CommandError(f"{_who(console)} may write only inside the user folder {root}, not {name} "
-                           "(type the command yourself to write there)")
-    return target
+    if not console.trusted:
+        root = _real(config_dir())
+        path = _real(root / path)  # an absolute path stays as it is
+        if not _inside(path, root):
+            raise CommandError(f"{_who(console)} may write only inside the user folder {root}, not {name} "
+                               "(type the command yourself to write there)")
+    check_folder(path, name)
+    return path
+
+
+def check_folder(path: Path, name: str) -> None:
+    """CommandError unless `path`'s folder exists: a save never makes folders, so a mistyped one is refused
+    rather than made. The user folder itself is the exception, made when first written: it is Shadelab's."""
+    folder = path.parent
+    if not folder.is_dir() and _real(folder) != _real(config_dir()):
+        raise CommandError(f"cannot write {name}: there is no folder {folder} (make it first)")
 
 
 def find(name: str, console: Console | None = None) -> Path | None:
