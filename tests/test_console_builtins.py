@@ -90,14 +90,27 @@ def test_wait_defers_the_rest_of_the_line(editor):
     assert not e.execute("wait many")
 
 
+@pytest.mark.parametrize("workspace, line, said", [
+    ("volume", "bind F5", "F5 is bound to 'mode 5' in volume"),
+    ("volume", "bind c", "c is bound to 'ui.background' in volume (elsewhere: painter:c 'ui.brushcolor')"),
+    ("snowflake", "bind F5", "F5 is not bound in snowflake (elsewhere: volume:F5 'mode 5')"),
+    ("snowflake", "bind volume:f5", "volume:F5 is bound to 'mode 5'"),
+    ("clouds", "bind F12", "F12 is bound to 'digest'"),
+])
+def test_bind_alone_says_what_the_key_runs_in_this_workspace(editor, workspace, line, said):
+    """default.cfg binds F5 in the volume workspace only: `bind F5` there finds it."""
+    editor.execute(f"workspace {workspace}")
+    assert editor.execute(line) and out(editor) == said
+
+
 def test_bind_unbind_bindlist(editor):
     e = editor
     assert e.execute("bind F5 snow.level 3")  # unquoted words are joined, as in Quake
     assert e.binds.lookup("snowflake", "F5") == "snow.level 3"
     assert e.execute('bind snowflake:f5 "snow.level 4"')
     assert e.binds.lookup("snowflake", "F5") == "snow.level 4" and e.binds.lookup("clouds", "F5") == "snow.level 3"
-    e.execute("bind F5")
-    assert out(e) == "F5 is bound to 'snow.level 3'"
+    e.execute("bind F5")  # in the snowflake workspace, its own bind runs
+    assert out(e) == "F5 is bound to 'snow.level 4' in snowflake (elsewhere: 'snow.level 3'; volume:F5 'mode 5')"
     assert not e.execute("bind NOTAKEY x") and "no key called" in errors(e)[-1]
     assert e.execute("unbind F5") and not e.execute("unbind F5")
     e.execute("bindlist")

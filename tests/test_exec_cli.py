@@ -17,7 +17,7 @@ def test_items_run_in_order_and_print_the_log(tmp_path):
     r = shadelab_exec(tmp_path, "a.cfg", "-c", "snow.level 1", "b.lua", "-c", "snow.list")
     assert r.returncode == 0, r.stderr
     assert "from lua\t128" in r.stdout
-    assert r.stdout.rstrip().endswith("1 flakes, level 3")
+    assert r.stdout.rstrip().endswith("1 flake, level 3")
 
 
 def test_a_failure_sets_the_status_and_later_items_still_run(tmp_path):

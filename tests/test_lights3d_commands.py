@@ -89,7 +89,7 @@ def test_light3d_remove_and_list(editor):
     assert [li.kind for li in state(editor).scene.lights] == ["spot"]
     assert editor.execute("light3d.list")
     assert logged(editor)[-2:] == ["light 0: spot at 200 150 0 direction -0.8 -0.6 0 colour 1 1 1 range 100 "
-                                   "falloff 20 angle 15 shadow onepass", "1 lights"]
+                                   "falloff 20 angle 15 shadow onepass", "1 light"]
 
 
 # ---- objects and the scene's settings ---------------------------------------------------------------------

@@ -6,6 +6,7 @@ from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtWidgets import QApplication, QPushButton
 
+from app.console.text import number
 from app.model.lights3d_gizmo import gizmo_axes, pick_light, pick_object
 
 
@@ -106,6 +107,7 @@ def test_a_gizmo_drag_moves_along_one_axis_in_one_undo_step(lights3d):
     drag(window, start, start + 1.5 * (b - a))
     moves = [c for c in commands if c.startswith("object.move 1 ")]
     assert len(moves) >= 2 and not any(c.startswith("view.orbit") for c in commands)
+    assert all(word == number(float(word)) for c in moves for word in c.split()[2:])  # no 17-digit repr noise
     after = state(window).scene.objects[1].position
     assert after[0] > before[0] + 5 and after[1:] == before[1:]
     assert state(window).selection == ("object", 1)

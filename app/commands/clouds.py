@@ -9,6 +9,7 @@ from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
+from app.console.text import number
 from app.io import clouds_scene
 from app.io.clouds_scene import MAX_SEED, CloudScene, CloudSceneError
 from app.io.weather_image import WeatherError, load_weather
@@ -104,7 +105,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     def clouds_list() -> None:
         for p in PARAMS:
             choices = "|".join(map(str, p.choices)) if p.choices else f"{p.lo:g}..{p.hi:g}"
-            console.print(f"{p.name:<20} {getattr(state.params, p.name):<8g} {choices:<12} {p.text}")
+            console.print(f"{p.name:<20} {number(getattr(state.params, p.name)):<8} {choices:<12} {p.text}")
 
     @reg.command("clouds.reset", "", "Set every cloud parameter back to its default")
     def clouds_reset() -> None:
@@ -175,7 +176,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
             seed = (int(source[1]) + 1) % (MAX_SEED + 1) if source[0] == "new" else 1
         history.checkpoint()
         state.new_weather(weather_map(seed, WEATHER_SIZE), f"new {seed}")
-        console.print(f"weather {seed}, blending in over {state.params.weather_blend:g} s")
+        console.print(f"weather {seed}, blending in over {number(state.params.weather_blend)} s")
 
     @reg.command("weather.load", "path", "Blend to a weather map from a PNG (R coverage, G type, B rain)",
                  completer=lambda prefix: files.complete(prefix, (".png",)))
@@ -186,12 +187,12 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
             raise CommandError(str(exc)) from None
         history.checkpoint()
         state.new_weather(resample(weather, WEATHER_SIZE), f"load {shlex.quote(path)}")
-        console.print(f"weather from {path}, blending in over {state.params.weather_blend:g} s")
+        console.print(f"weather from {path}, blending in over {number(state.params.weather_blend)} s")
 
     @reg.command("weather.blend", "[seconds:float]", "Show or set how long a new weather takes to blend in")
     def weather_blend(seconds: float | None = None) -> None:
         if seconds is None:
-            console.print(f"weather.blend is {state.params.weather_blend:g} s")
+            console.print(f"weather.blend is {number(state.params.weather_blend)} s")
         else:
             clouds_set("weather_blend", seconds)
 
@@ -206,7 +207,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     def clouds_time(seconds: float | None = None, wind: float | None = None) -> None:
         times(seconds, wind)
         if seconds is None:
-            console.print(f"clock {state.clock:g} s, wind time {state.wind_time:g} s, "
+            console.print(f"clock {number(state.clock)} s, wind time {number(state.wind_time)} s, "
                           f"weather blend {state.blend():.0%}")
             return
         state.clock = seconds

@@ -13,6 +13,7 @@ from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
+from app.console.text import count, number
 from app.io import scene2d as scene_file
 from app.io.json_file import storable
 from app.io.textures2d import BUILTIN, image
@@ -146,7 +147,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
             check_image(name)
         edit()
         state.replace(loaded)
-        console.print(f"loaded {len(loaded.lights)} lights and {len(loaded.hulls)} hulls from {Path(path).name}")
+        console.print(f"loaded {count(len(loaded.lights), 'light')} and {count(len(loaded.hulls), 'hull')} "
+                      f"from {Path(path).name}")
 
     def save(path) -> None:
         cam = state.camera
@@ -221,7 +223,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def light_add(*args) -> None:
         light = new_light(*args)
         index = append(scene().lights, light, scene_file.MAX_LIGHTS)
-        console.print(f"light {index}: {light.kind} at ({light.position[0]:g}, {light.position[1]:g})")
+        console.print(f"light {index}: {light.kind} at ({number(light.position[0])}, {number(light.position[1])})")
 
     @checks.add("light.set", "lighting2d")
     def light_change(index: int, key: str, values: list[str]) -> tuple[Light, Light]:
@@ -267,7 +269,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         for i, light in enumerate(scene().lights):
             props = ", ".join(f"{f.name} {fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
             console.print(f"light {i}: {props}")
-        console.print(f"{len(scene().lights)} lights")
+        console.print(count(len(scene().lights), "light"))
 
     # ---- hulls -------------------------------------------------------------------------------------
 
@@ -295,7 +297,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
     def hull_add(values: list[float]) -> None:
         index = append(scene().hulls, new_hull(values), scene_file.MAX_HULLS)
-        console.print(f"hull {index}: {len(scene().hulls[index].points)} points")
+        console.print(f"hull {index}: {count(len(scene().hulls[index].points), 'point')}")
         report(index)
 
     def transform(hull: Hull, **change) -> dict:
@@ -409,10 +411,10 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def hull_list() -> None:
         for i, hull in enumerate(scene().hulls):
             state = "valid" if hull.valid else f"INVALID ({hull.invalid_reason})"
-            console.print(f"hull {i}: {len(hull.points)} points at ({hull.position[0]:g}, {hull.position[1]:g}), "
-                          f"rotation {hull.rotation:g}, scale {fmt(hull.scale)}, "
+            console.print(f"hull {i}: {count(len(hull.points), 'point')} at ({number(hull.position[0])}, "
+                          f"{number(hull.position[1])}), rotation {number(hull.rotation)}, scale {fmt(hull.scale)}, "
                           f"{'enabled' if hull.enabled else 'disabled'}, {state}")
-        console.print(f"{len(scene().hulls)} hulls")
+        console.print(count(len(scene().hulls), "hull"))
 
 
 def _check_image(name: str) -> None:

@@ -10,6 +10,7 @@ from dataclasses import replace
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
+from app.console.text import count, number
 from app.io import lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
 from app.model.lights3d import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
@@ -53,7 +54,7 @@ def _field(table: dict, what: str, field: str) -> str | tuple[str, ...]:
 
 
 def _words(values) -> str:
-    return " ".join(f"{v:g}" for v in values)
+    return " ".join(map(number, values))
 
 
 def _starting(words, prefix: str) -> list[str]:
@@ -104,7 +105,8 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
             raise CommandError(str(exc)) from None
         history.checkpoint()
         state.replace(scene)
-        console.print(f"loaded {len(scene.objects)} objects and {len(scene.lights)} lights from {path}")
+        console.print(f"loaded {count(len(scene.objects), 'object')} and {count(len(scene.lights), 'light')} "
+                      f"from {path}")
 
     state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",))
 
@@ -196,7 +198,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         for i, o in enumerate(state.scene.objects):
             console.print(f"object {i}: {o.kind} size {_words(o.size)} at {_words(o.position)} "
                           f"colour {_words(o.colour)}")
-        console.print(f"{len(state.scene.objects)} objects, {state.scene.triangles} triangles")
+        console.print(f"{count(len(state.scene.objects), 'object')}, {count(state.scene.triangles, 'triangle')}")
 
     # ---- lights -------------------------------------------------------------------------------------
 
@@ -242,9 +244,9 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     def light_list() -> None:
         for i, li in enumerate(state.scene.lights):
             console.print(f"light {i}: {li.kind} at {_words(li.position)} direction {_words(li.direction)} "
-                          f"colour {_words(li.colour)} range {li.range:g} falloff {li.falloff:g} "
-                          f"angle {li.angle:g} shadow {li.shadow}")
-        console.print(f"{len(state.scene.lights)} lights")
+                          f"colour {_words(li.colour)} range {number(li.range)} falloff {number(li.falloff)} "
+                          f"angle {number(li.angle)} shadow {li.shadow}")
+        console.print(count(len(state.scene.lights), "light"))
 
 
 def render_settings(console: Console, state: Lights3DWorkspace) -> Lights3DRenderSettings:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError
+from app.console.text import count, number
 from app.io import snowflake_scene
 from app.io.json_file import storable
 from app.io.snowflake_scene import MAX_FLAKES
@@ -28,7 +29,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
             raise CommandError(str(exc)) from None
         history.checkpoint()
         scene.replace(flakes, level)
-        console.print(f"loaded {len(flakes)} flakes from {path}")
+        console.print(f"loaded {count(len(flakes), 'flake')} from {path}")
 
     state.files = SceneFiles(load, lambda path: snowflake_scene.save(path, scene), (".json",))
 
@@ -55,7 +56,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
                  f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)")
     def level(value: float | None = None) -> None:
         if level_value(value) is None:
-            console.print(f"snow.level is {scene.level:g}")
+            console.print(f"snow.level is {number(scene.level)}")
         elif value != scene.level:
             history.checkpoint()
             scene.level = value
@@ -73,7 +74,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         if len(scene.flakes) >= MAX_FLAKES:
             raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
         history.checkpoint()
-        console.print(f"flake {scene.add(x, y, radius)} at ({x:g}, {y:g})")
+        console.print(f"flake {scene.add(x, y, radius)} at ({number(x)}, {number(y)})")
 
     @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)
     def move(index: int, x: float, y: float) -> None:
@@ -95,8 +96,8 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
     @reg.command("snow.list", "", "List the flakes")
     def list_() -> None:
         for i, f in enumerate(scene.flakes):
-            console.print(f"{i}: ({f.x:g}, {f.y:g}) radius {f.radius:g}")
-        console.print(f"{len(scene.flakes)} flakes, level {scene.level:g}")
+            console.print(f"{i}: ({number(f.x)}, {number(f.y)}) radius {number(f.radius)}")
+        console.print(f"{count(len(scene.flakes), 'flake')}, level {number(scene.level)}")
 
     @checks.add("snow.view")
     def view_values(cx: float, cy: float, height: float) -> tuple[float, float, float]:

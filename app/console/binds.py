@@ -49,6 +49,24 @@ class Binds:
     def lookup(self, workspace: str, key: str) -> str | None:
         return self.table.get((workspace, key)) or self.table.get(("", key))
 
+    def describe(self, workspace: str, spec: str) -> str:
+        """What `bind KEY` says: what the key runs in `workspace` (its own bind wins over the global one), and
+        the key's binds elsewhere; `scope:KEY` asks for one bind exactly."""
+        scope, key = split(spec)
+        if scope:
+            found = self.table.get((scope, key))
+            return f"{scope}:{key} is bound to {found!r}" if found else f"{scope}:{key} is not bound"
+        own, everywhere = self.table.get((workspace, key)), self.table.get(("", key))
+        if own:
+            said = f"{key} is bound to {own!r} in {workspace}"
+        elif everywhere:
+            said = f"{key} is bound to {everywhere!r}"
+        else:
+            said = f"{key} is not bound" + (f" in {workspace}" if workspace else "")
+        elsewhere = [f"{s}:{key} {c!r}" if s else repr(c) for (s, k), c in sorted(self.table.items())
+                     if k == key and s != workspace and (s or own)]  # the global one where this workspace's hides it
+        return said + (f" (elsewhere: {'; '.join(elsewhere)})" if elsewhere else "")
+
     def lines(self) -> list[str]:
         """`bind` commands that recreate the table, sorted (for bindlist and writeconfig)."""
         return [f"bind {f'{s}:' if s else ''}{k} {shlex.quote(c)}" for (s, k), c in sorted(self.table.items())]

@@ -4,10 +4,11 @@ from __future__ import annotations
 import shlex
 
 from app.console import files
-from app.console.binds import KEYS, Binds, split
+from app.console.binds import KEYS, Binds
 from app.console.console import Console, Origin
 from app.console.lua import LuaScripting
 from app.console.registry import CommandError, Cvar, Reported
+from app.console.text import count
 from app.io.atomic import write_text
 from app.io.regular_file import read_regular_bytes
 
@@ -124,12 +125,12 @@ def register(console: Console, binds: Binds) -> LuaScripting:
     def listing(lines: list[str], noun: str) -> None:
         for line in lines:
             console.print(line)
-        console.print(f"{len(lines)} {noun}")
+        console.print(count(len(lines), noun))
 
     @reg.command("cvarlist", "[prefix]", "List cvars (A = archived to the user config)", recorded=False)
     def cvarlist(prefix: str = "") -> None:
         listing([f"{'A' if c.archive else ' '} {c.name:<22} {c.text():<12} {c.type.__name__:<5} {c.help}"
-                 for name, c in sorted(reg.cvars.items()) if name.startswith(prefix)], "cvars")
+                 for name, c in sorted(reg.cvars.items()) if name.startswith(prefix)], "cvar")
 
     @reg.command("cmdlist", "[prefix]", "List commands ([workspace] marks one workspace's own)", recorded=False)
     def cmdlist(prefix: str = "") -> None:
@@ -137,7 +138,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         # the bare name or `workspace:name`
         shown = sorted((c for key, c in reg.commands.items() if key.startswith(prefix) or c.name.startswith(prefix)),
                        key=lambda c: (c.name, c.scope or ""))
-        listing([f"{c.label():<44} {c.help}" for c in shown], "commands")
+        listing([f"{c.label():<44} {c.help}" for c in shown], "command")
 
     @reg.command("help", "[name]", "Describe a command, cvar or alias; alone, say how to find them",
                  completer=names, recorded=False)
@@ -172,7 +173,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             write_text(target, "".join(f"{line.text}\n" for line in console.log))
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
-        console.print(f"dumped {len(console.log)} lines to {target}")
+        console.print(f"dumped {count(len(console.log), 'line')} to {target}")
 
     @reg.command("alias", "[name] [commands...]", "Name a command line; alone, list the aliases", completer=names)
     def alias(name: str | None = None, words: list[str] | None = None) -> None:
@@ -208,8 +209,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
     def bind(key: str, words: list[str]) -> None:
         command = _joined(words)
         if command is None:
-            found = binds.table.get(split(key))
-            console.print(f"{key} is bound to {found!r}" if found else f"{key} is not bound")
+            console.print(binds.describe(reg.scope or "", key))
         else:
             binds.bind(key, command)
 

@@ -8,6 +8,7 @@ from typing import Callable
 from app.console import demo, files
 from app.console.console import Console
 from app.console.registry import CommandError
+from app.console.text import count
 
 DEMO_SUFFIX = ".demo"
 
@@ -59,7 +60,7 @@ class Demos:
         if player is None:
             return
         if player.failed_at is None:
-            self.console.print(f"demo finished: {len(player.events)} commands")
+            self.console.print(f"demo finished: {count(len(player.events), 'command')}")
         else:
             self.console.error(f"{_demo_path(name)}: {demo.stopped(player.events, player.failed_at)}")
 
@@ -70,8 +71,7 @@ class Demos:
             self.console.print("playback stopped")
         if self.recorder is not None:
             recorder, self.recorder = self.recorder, None
-            count = recorder.stop()
-            self.console.print(f"recorded {count} commands to {recorder.path}")
+            self.console.print(f"recorded {count(recorder.stop(), 'command')} to {recorder.path}")
 
     def _register(self) -> None:
         reg = self.console.registry
@@ -100,7 +100,7 @@ class Demos:
             demo.check_speed(speed)  # before reading the file: a refused speed needs no file
             events, self._home = self._load(name)
             self.player = demo.Player(self.console, self.clock, events, speed, on_done=lambda: self._finished(name))
-            self.console.print(f"playing {_demo_path(name)}: {len(events)} commands, "
+            self.console.print(f"playing {_demo_path(name)}: {count(len(events), 'command')}, "
                                f"{events[-1].time / speed if events else 0:.1f} s")
             self.update()
 

@@ -8,6 +8,8 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from app.console.text import number
+
 
 class CommandError(Exception):
     """A command refused its input; the message goes to the console log, the model is untouched."""
@@ -159,9 +161,9 @@ class Cvar:
             raise
 
     def text(self) -> str:
-        """For people: floats shortened (%g)."""
+        """For people: floats as typed (text.number)."""
         if self.type is float:
-            return f"{self.value:g}"
+            return number(self.value)
         return self.serialise()
 
     def assignment(self) -> str:

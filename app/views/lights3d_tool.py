@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt
 
+from app.console.text import number
 from app.model.camera3d import PITCH_LIMIT
 from app.model.lights3d import Lights3DCamera
 from app.model.lights3d_gizmo import drag_along, hit_axis, pick_light, pick_object
@@ -54,7 +55,7 @@ class Lights3DTool(ViewportTool):
             _, kind, index, origin, axis, start = self._drag
             moved = drag_along(self.state.camera, self._size(), origin, axis, start, pixel)
             if moved is not None and moved != self.state.item(kind, index).position:
-                self.run(f"{MOVE_VERBS[kind]} {index} {moved[0]!r} {moved[1]!r} {moved[2]!r}")
+                self.run(f"{MOVE_VERBS[kind]} {index} {' '.join(map(number, moved))}")
             return
         _, (x0, y0), yaw, pitch, click = self._drag
         dx, dy = pixel[0] - x0, pixel[1] - y0

@@ -4,6 +4,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QFormLayout, QHBoxLayout, QLabel, QPushButton, QSlider, QWidget
 
+from app.console.text import count
 from app.gl.snowflake import chunk_layout
 from app.model.snowflake import MAX_LEVEL
 
@@ -49,5 +50,5 @@ class SnowflakePanel(QWidget):
             widget.blockSignals(False)
         m, _t, depth, chunks = chunk_layout(scene.level)
         n = len(scene.flakes)
-        self.info.setText(f"{n} flakes · {3 * 4 ** m + 1} vertices each\n"
+        self.info.setText(f"{count(n, 'flake')} · {3 * 4 ** m + 1} vertices each\n"
                           f"{n * chunks} geometry-shader invocations of ≤ {4 ** depth + 1} vertices")
