@@ -15,7 +15,8 @@ def inputs(window):
 def frame_image(window):
     image = window.viewport.grabFramebuffer().convertToFormat(window.viewport.grabFramebuffer().Format.Format_RGBA8888)
     h, w = image.height(), image.width()
-    return np.frombuffer(image.constBits(), np.uint8).reshape(h, image.bytesPerLine())[:, : 4 * w].reshape(h, w, 4)
+    pixels = np.frombuffer(image.constBits(), np.uint8).reshape(h, image.bytesPerLine())[:, : 4 * w].reshape(h, w, 4)
+    return pixels.copy()  # a view would outlive the QImage that owns the memory
 
 
 def centre_pixel_of_world(window, x, y):

@@ -63,11 +63,22 @@ class Viewport(QOpenGLWidget):
             self.renderer.release()
             self.renderer = None
             gc.collect()  # the renderer's programs, buffers and textures, into the context's garbage list
-            self.ctx.gc()
+            self._free_dropped()
             self.ctx.release()
             self.ctx = None
         finally:
             self.doneCurrent()
+
+    def _free_dropped(self) -> None:
+        """Free the GL objects Python dropped (moderngl's context_gc mode queues them until the context is
+        current). One released already is queued too, as an InvalidObject with no release(), on which ctx.gc()
+        would stop: the renderers release what they replace, so after a resize it did, and the context was
+        never released."""
+        queued = self.ctx.objects
+        live = [obj for obj in queued if not isinstance(obj, moderngl.InvalidObject)]
+        queued.clear()
+        queued.extend(live)
+        self.ctx.gc()
 
     def paintGL(self) -> None:
         start = time.perf_counter()
@@ -83,6 +94,7 @@ class Viewport(QOpenGLWidget):
             fbo.clear(0.3, 0.05, 0.05, 1.0)
             self.gl_error.emit(str(exc))
         self.ctx.finish()
+        self._free_dropped()
         self._last_frame = time.perf_counter()
         ms = (self._last_frame - start) * 1e3
         self.renderer.frame_took(ms, self.interactive)
