@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 from app.model.lights3d import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
 from app.model.lights3d_gizmo import (HANDLE_FRACTION, drag_along, gizmo_axes, handle_length, hit_axis, pick_light,
@@ -45,6 +45,7 @@ def test_nothing_behind_the_eye_has_a_gizmo_or_a_pick():
 @given(camera=cameras, origin=origins, t=st.floats(0.3, 1.0))
 def test_hit_axis_finds_the_handle_under_the_mouse(camera, origin, t):
     segments = gizmo_axes(camera, SIZE, origin)
+    assume(segments is not None)  # a near camera can have a handle's tip behind its near plane: no gizmo then
     for axis, (a, b) in enumerate(segments):
         if np.linalg.norm(b - a) < 20:  # seen about end-on: it may be passed over, or hide behind another
             continue
