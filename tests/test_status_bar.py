@@ -39,10 +39,11 @@ def test_the_frame_time_is_one_measure(window, qtbot):
 
 
 def open_2d(window, qtbot):
+    frames = window.viewport.frames
     for line in ("workspace lighting2d", "lighting.clear", "ambient 0.1 0.1 0.1", "lighting.view 0 0 400",
                  "light.add point 0 0"):
         assert window.run(line)
-    qtbot.waitUntil(lambda: window.viewport.tool is window.tools["lighting2d"])
+    qtbot.waitUntil(lambda: window.viewport.tool is window.tools["lighting2d"] and window.viewport.frames > frames)
 
 
 def world_pixel(window, x, y) -> QPoint:

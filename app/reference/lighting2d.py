@@ -27,19 +27,14 @@ CHUNK = 4096  # pixels per vectorised block
 def render(scene: Scene2D, width: int, height: int, view=None, samples: int = 64, flip_y: bool = False) -> np.ndarray:
     """The lightmap (height, width, 3) float64, clamped to 0..1, row 0 at the top of the view."""
     world = pixel_world(view or scene.view, width, height, flip_y)
-    return light_at(scene, world, samples).reshape(height, width, 3)
-
-
-def light_at(scene: Scene2D, world: np.ndarray, samples: int = 64, index: SceneIndex | None = None) -> np.ndarray:
-    """The lightmap's value (n, 3), clamped to 0..1, at world points (n, 2)."""
     textures = textures_for(scene)
-    index = index or SceneIndex(scene)
-    out = np.broadcast_to(np.asarray(scene.ambient, dtype=np.float64), (len(world), 3)).copy()
+    index = SceneIndex(scene)
+    out = np.broadcast_to(np.asarray(scene.ambient, dtype=np.float64), (height * width, 3)).copy()
     for light in scene.lights:
         contribution = light_contribution(scene, light, world, textures, samples, index)
         if contribution is not None:
             out += contribution
-    return np.clip(out, 0.0, 1.0)
+    return np.clip(out, 0.0, 1.0).reshape(height, width, 3)
 
 
 def blockers(scene: Scene2D, light: Light, index: SceneIndex | None = None) -> list[tuple[int, np.ndarray]]:

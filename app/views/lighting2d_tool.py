@@ -16,8 +16,6 @@ import numpy as np
 from PySide6.QtCore import Qt
 
 from app.gl.lighting2d_overlay import HANDLE_PX, ICON_PX, handles
-from app.model.lighting2d_index import SceneIndex
-from app.reference import lighting2d as reference
 from app.views.tool import ViewportTool
 
 PICK_PX = 8.0
@@ -46,7 +44,6 @@ class Lighting2DTool(ViewportTool):
         self.drawing = False
         self._drag = None      # (kind, data) of the gesture in progress
         self._moved = False
-        self._index: SceneIndex | None = None  # the scene's hull index, for the light under the cursor
 
     @property
     def editor(self):
@@ -233,13 +230,11 @@ class Lighting2DTool(ViewportTool):
     # ---- the status bar ------------------------------------------------------------------------------
 
     def hover(self, event) -> str:
-        """The world point under the cursor and the light reaching it (the exact reference's lightmap)."""
+        """The world point under the cursor and the light reaching it (the lightmap drawn)."""
         x, y = self._world(event)
-        scene = self.state.scene
-        if self._index is None or self._index.scene is not scene or self._index.version != scene.version:
-            self._index = SceneIndex(scene)  # made again only after an edit: hovering stays cheap
-        light = reference.light_at(scene, np.array([[x, y]]), index=self._index)[0]
-        return f"x {x:.2f}  y {y:.2f}   light {light[0]:.3f} {light[1]:.3f} {light[2]:.3f}"
+        light = self.viewport.value_at(event.position())
+        value = "" if light is None else f"   light {light[0]:.3f} {light[1]:.3f} {light[2]:.3f}"
+        return f"x {x:.2f}  y {y:.2f}{value}"
 
     def tool_name(self) -> str:
         return "draw hull (click points; Enter, right click or the first point closes)" if self.drawing else "select"

@@ -96,6 +96,18 @@ class Viewport(QOpenGLWidget):
         self.frame_ms.append(ms)
         self.frame_rendered.emit(ms)
 
+    def value_at(self, pos):
+        """What the last frame shows at a widget position (the workspace renderer's value_at), or None."""
+        if self.renderer is None:
+            return None
+        ratio = self.devicePixelRatioF()
+        size = (round(self.width() * ratio), round(self.height() * ratio))
+        self.makeCurrent()
+        try:
+            return self.renderer.value_at(pos.x() * ratio, pos.y() * ratio, size)
+        finally:
+            self.doneCurrent()
+
     def settled(self) -> bool:
         """Whether the picture shown is final: nothing being prepared, no full frame owed after an interaction,
         no temporal history still filling."""
