@@ -141,6 +141,8 @@ class BenchDock(QWidget):
             self.process.kill()  # its CSV is written atomically at the end: nothing half written stays
 
     def _progress(self) -> None:
+        if self.process is None:  # output that came after its end
+            return
         lines = bytes(self.process.readAllStandardOutput()).decode(errors="replace").strip().splitlines()
         done = sum(1 for line in lines if MEASURED.search(line))
         if done:
