@@ -2,8 +2,9 @@
 drawing hulls by clicking, vertex edits and the property panel, each landing as console commands."""
 import math
 
+import numpy as np
 from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
-from PySide6.QtGui import QMouseEvent
+from PySide6.QtGui import QImage, QMouseEvent
 from PySide6.QtWidgets import QApplication
 
 
@@ -112,3 +113,45 @@ def test_panel_edits_are_commands(window, qtbot):
     assert window.editor.console.registry.cvars["r_shadowMethod"].value == "penumbra"
     window.run("undo")
     assert window.editor.workspaces["lighting2d"].scene.lights[0].radius == 20
+
+
+def frame_pixels(window):
+    image = window.viewport.grabFramebuffer().convertToFormat(QImage.Format.Format_RGBA8888)
+    h, w = image.height(), image.width()
+    return np.frombuffer(image.constBits(), np.uint8).reshape(h, image.bytesPerLine())[:, : 4 * w].reshape(h, w, 4)
+
+
+def test_a_light_shows_an_icon_at_its_centre_that_a_click_selects(window, qtbot):
+    """Broken: a light far smaller than a pixel or two could only be found with the wireframe."""
+    open_2d(window, qtbot)
+    window.run("lighting.view 0 0 4000")  # the light's disc (20 units) is 3 pixels across
+    window.run("light.add point 0 0")
+    qtbot.waitUntil(lambda: window.viewport.settled())
+    centre = pixel(window, 0, 0)
+    image = frame_pixels(window)
+    on_ray = image[centre.y() - 1:centre.y() + 2, centre.x() + 8].astype(int)  # the right ray: 6.5 .. 10 px out
+    assert any(r - b > 120 for r, _g, b, _a in on_ray), on_ray  # the icon's orange, not the white light
+    qtbot.mouseClick(window.viewport, Qt.MouseButton.LeftButton, pos=centre + QPoint(9, 0))  # at its rays' tips
+    assert window.editor.workspaces["lighting2d"].selection == ("light", 0)
+
+
+def test_a_drawn_hull_turns_and_scales_about_its_centroid(window, qtbot):
+    """Broken: a drawn hull's origin stayed at the world's (0, 0), its handles far from it."""
+    open_2d(window, qtbot)
+    window.run("lighting.view 100 50 400")
+    vp = window.viewport
+    vp.setFocus()
+    qtbot.keyClick(vp, Qt.Key.Key_H)
+    for x, y in ((60, 20), (140, 20), (140, 60), (60, 60)):
+        qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, x, y))
+    qtbot.keyClick(vp, Qt.Key.Key_Return)
+    state = window.editor.workspaces["lighting2d"]
+    hull = state.scene.hulls[0]
+    unit = state.camera.world_per_pixel(vp.height())
+    assert math.dist(hull.position, (100, 40)) < unit and hull.origin == hull.position
+    assert np.allclose(hull.world(), hull.points)  # the outline where it was drawn
+    assert any(line.text.startswith("] hull.draw ") for line in window.editor.console.log if line.level == "input")
+    handle = (hull.position[0] + 40 * unit, hull.position[1])  # the round handle, 40 px from the centre
+    drag(qtbot, vp, pixel(window, *handle), pixel(window, hull.position[0], hull.position[1] + 40 * unit))
+    assert abs(hull.rotation - math.pi / 2) < 0.1
+    assert np.allclose(hull.world().mean(axis=0), hull.points.mean(axis=0), atol=unit)  # it turned in place

@@ -216,3 +216,15 @@ def test_a_reduced_lightmap_is_smaller_and_close(renderer):
     assert half.shape[:2] == (SIZE[1] // 2, SIZE[0] // 2)
     full = reference.render(scene, SIZE[0] // 2, SIZE[1] // 2)
     assert float(np.sqrt(((half - full) ** 2).mean())) < 0.01
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.5])
+def test_the_value_under_a_view_pixel_is_the_lightmaps_there(renderer, scale):
+    """What the status bar reads under the cursor: the texel the view shows at that pixel (y down, any lightmap
+    scale)."""
+    scene = scene2d.load(SCENES / "j_concave_three_lights.json")
+    image = lightmap(renderer, scene, lightmap_scale=scale)  # rows from the top, at the lightmap's own size
+    rows, columns = image.shape[:2]
+    for x, y in ((0, 0), (5, 70), (127, 79), (64, 40), (100, 13)):
+        texel = image[int(y * rows / SIZE[1]), int(x * columns / SIZE[0])]
+        assert np.array_equal(renderer.lightmap_value(x + 0.5, y + 0.5, SIZE), texel)

@@ -91,7 +91,7 @@ class Plan:
 
 FULL = Plan()
 QUICK = Plan(reference_size=(32, 18), reference_steps=1024, gpu_steps=(64, 256), cpu_steps=(256,),
-             buffer_size=(160, 90), buffer_steps=(32, 128), settings_size=(64, 36), settings_steps=(64,),
+             buffer_size=(96, 54), buffer_steps=(16, 64), settings_size=(64, 36), settings_steps=(64,),
              stage_steps=64, converged_steps=256, interleaved_rounds=3)
 
 

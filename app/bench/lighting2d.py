@@ -126,7 +126,7 @@ def extra_rows(quick: bool, size, runs: int, progress) -> list[Row]:
     rows = []
     ctx = create_context()
     renderer = Lighting2DRenderer(ctx, ShaderLibrary(ctx, [SHADERS]))
-    peer_size = (640, 360) if quick else (1280, 720)
+    peer_size = (128, 72) if quick else (1280, 720)
     why = peer.available()
     if why:
         progress(f"pygame-light2d skipped: {why}")

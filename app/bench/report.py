@@ -58,8 +58,26 @@ def curves(rows: list[dict], scene: str | None = None) -> dict[str, tuple[np.nda
     return result
 
 
+def add_plots(layout, stacked: bool = False):
+    """The chart's two plots (RMSE against time, time against the knob) in a pyqtgraph GraphicsLayout, side by
+    side or stacked, on axes that print plain numbers (no SI prefix) and no label over another."""
+    from app.bench.chart_axis import ChartAxis
+
+    def axes():
+        return {side: ChartAxis(side) for side in ("left", "bottom")}
+
+    return layout.addPlot(row=0, col=0, axisItems=axes()), layout.addPlot(row=int(stacked), col=int(not stacked),
+                                                                          axisItems=axes())
+
+
+def tip(method: str, scene: str, knob_name: str, knob: float, ms: float, rmse: float) -> str:
+    """What hovering a point of the chart says about it."""
+    return f"{method}\n{scene}\n{knob_name} = {knob:g}\n{ms:.3g} ms/frame, RMSE {rmse:.3g}"
+
+
 def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> None:
-    """Fill two pyqtgraph PlotItems: RMSE against ms (log-log), and ms against the knob per scene."""
+    """Fill two pyqtgraph PlotItems (from add_plots): RMSE against ms (log-log), and ms against the knob per
+    scene. Each point carries its tip() as its data."""
     import pyqtgraph as pg
 
     for p in (error_plot, time_plot):
@@ -67,18 +85,17 @@ def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> N
         p.showGrid(x=True, y=True, alpha=0.3)
         p.addLegend(offset=(10, 10), brush=(20, 22, 28, 200))
     scene = scene or (rows[0]["scene"] if rows else None)
-    for axis in ("left", "bottom"):  # SI prefixes on log axes print as "(x1e-09)": plain numbers read better
-        error_plot.getAxis(axis).enableAutoSIPrefix(False)
-        time_plot.getAxis(axis).enableAutoSIPrefix(False)
     error_plot.setLogMode(x=True, y=True)
     error_plot.setLabel("bottom", "frame time (ms)")
     error_plot.setLabel("left", "RMSE (0..1)")
     error_plot.setTitle(f"Speed vs accuracy — {scene}")
     methods = sorted({r["method"] for r in rows})
     colours = {m: PALETTE[i % len(PALETTE)] for i, m in enumerate(methods)}
-    for method, (ms, err, _knob) in curves(rows, scene).items():
+    knob_names = {r["method"]: r["knob_name"] for r in rows if r["scene"] == scene}
+    for method, (ms, err, knob) in curves(rows, scene).items():
+        tips = [tip(method, scene, knob_names[method], *point) for point in zip(knob, ms, err)]
         error_plot.plot(ms, err, pen=pg.mkPen(colours[method], width=2), symbol="o", symbolSize=6,
-                        symbolBrush=colours[method], name=method)
+                        symbolBrush=colours[method], name=method, data=tips)
     time_plot.setLogMode(x=False, y=True)
     knob_name = rows[0]["knob_name"] if rows else "knob"
     time_plot.setLabel("bottom", knob_name)
@@ -92,11 +109,13 @@ def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> N
     for method in methods:
         named = False  # one legend entry per method; its scenes differ by symbol
         for si, sc in enumerate(scenes):
-            pts = sorted((r["knob"], r["ms_median"]) for r in timed if r["method"] == method and r["scene"] == sc)
+            pts = sorted((r["knob"], r["ms_median"], r["rmse"]) for r in timed
+                         if r["method"] == method and r["scene"] == sc)
             if pts:
-                knob, ms = np.array(pts).T
+                knob, ms, _rmse = np.array(pts).T
                 time_plot.plot(knob, ms, pen=pg.mkPen(colours[method], width=1.5), symbol=symbols[si % len(symbols)],
-                               symbolSize=6, symbolBrush=colours[method], name=None if named else method)
+                               symbolSize=6, symbolBrush=colours[method], name=None if named else method,
+                               data=[tip(method, sc, knob_name, *point) for point in pts])
                 named = True
     for p in (error_plot, time_plot):
         p.legend.setVisible(bool(p.legend.items))  # an empty legend still draws its box
@@ -124,7 +143,7 @@ def save_chart(path: str | os.PathLike, rows: list[dict], size: tuple[int, int] 
 
     widget = pg.GraphicsLayoutWidget()
     widget.resize(*size)
-    error_plot, time_plot = widget.addPlot(row=0, col=0), widget.addPlot(row=0, col=1)
+    error_plot, time_plot = add_plots(widget.ci)
     plot(error_plot, time_plot, rows)
     widget.ci.setGeometry(QRectF(0, 0, *size))  # never shown on screen, so lay it out by hand
     exporter = ImageExporter(widget.ci)

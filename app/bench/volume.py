@@ -27,7 +27,7 @@ from app.resources import SHADERS
 STEPS = (16, 32, 64, 128, 256)
 QUICK_STEPS = (32, 128)
 QUICK_MODES = (2, 4, 5, 7)
-REFERENCE_STEPS = 2048
+REFERENCE_STEPS = 2048  # at 64 voxels a side; a smaller volume as many a voxel (reference_steps)
 
 
 def _scene(name: str, side: int):
@@ -77,8 +77,15 @@ def _method(mode: int) -> Method:
 @lru_cache(maxsize=None)
 def _reference(name: str, side: int, mode: int, size, background) -> np.ndarray:
     _n, volume, view = _scene(name, side)
-    return reference_render(volume.data, view.camera, size, MODES[mode], steps=REFERENCE_STEPS,
-                            shadow_steps=REFERENCE_STEPS // 6, background=background)
+    steps = reference_steps(side)
+    return reference_render(volume.data, view.camera, size, MODES[mode], steps=steps, shadow_steps=steps // 6,
+                            background=background)
+
+
+def reference_steps(side: int) -> int:
+    """cl_steps counts steps across the whole box: the same steps a voxel at any size (--quick's 32^3 volume
+    needs half of 64^3's)."""
+    return REFERENCE_STEPS * side // 64
 
 
 def technique(quick: bool = False) -> Technique:
@@ -157,5 +164,5 @@ def vispy_rows(quick: bool, size: tuple[int, int], runs: int, progress) -> list:
 @lru_cache(maxsize=None)
 def _grey_reference(side: int, mode: int, size) -> np.ndarray:
     _n, volume, view, _grey = grey_scene(side)
-    return reference_render(volume.data, view.camera, size, MODES[mode], steps=REFERENCE_STEPS,
+    return reference_render(volume.data, view.camera, size, MODES[mode], steps=reference_steps(side),
                             background=(0.0, 0.0, 0.0))

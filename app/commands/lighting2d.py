@@ -18,7 +18,7 @@ from app.io import scene2d as scene_file
 from app.io.json_file import storable
 from app.io.textures2d import BUILTIN, image
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D, \
-    Shading2D
+    Shading2D, centroid
 from app.model.lighting2d_workspace import HULL_KEYS, Lighting2DWorkspace, fmt
 from app.model.workspace import SceneFiles
 from app.resources import SCENES
@@ -64,7 +64,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     reg = console.registry.scoped(state.name)
     # Index checks read the light and hull counts, a light.set check the light's other properties (a
     # texture for kind textured): after any of these a demo's checker cannot know them.
-    checks.reshaped_by("lighting2d", "light.add", "light.remove", "light.set", "hull.add", "hull.remove",
+    checks.reshaped_by("lighting2d", "light.add", "light.remove", "light.set", "hull.add", "hull.draw", "hull.remove",
                        "hull.points", "hull.insert", "hull.delete", "lighting.clear", "lighting.sample",
                        "scene.load", "undo", "redo")
     history = state.history
@@ -294,11 +294,26 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def new_hull(values: list[float]) -> Hull:
         return checked_hull(coords(values))
 
+    def add_hull(hull: Hull) -> None:
+        index = append(scene().hulls, hull, scene_file.MAX_HULLS)
+        console.print(f"hull {index}: {count(len(hull.points), 'point')}")
+        report(index)
+
     @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
     def hull_add(values: list[float]) -> None:
-        index = append(scene().hulls, new_hull(values), scene_file.MAX_HULLS)
-        console.print(f"hull {index}: {count(len(scene().hulls[index].points), 'point')}")
-        report(index)
+        add_hull(new_hull(values))
+
+    @checks.add("hull.draw")
+    def drawn_hull(values: list[float]) -> Hull:
+        hull = new_hull(values)
+        centre = centroid(hull.points)
+        hull.set_transform(centre, centre, 0.0, (1.0, 1.0))  # the same outline, turning and scaling about it
+        return hull
+
+    @reg.command("hull.draw", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units) "
+                 "whose origin and position are its centroid, where its handles sit (the draw tool's hulls)")
+    def hull_draw(values: list[float]) -> None:
+        add_hull(drawn_hull(values))
 
     def transform(hull: Hull, **change) -> dict:
         return {**{k: getattr(hull, k) for k in ("position", "origin", "rotation", "scale")}, **change}

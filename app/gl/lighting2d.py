@@ -86,6 +86,18 @@ class Lighting2DRenderer:
         data = np.frombuffer(tex.read(), "f2").reshape(tex.height, tex.width, 4)[::-1, :, :3].astype(np.float32)
         return np.clip(data, 0.0, 1.0)
 
+    def lightmap_value(self, x: float, y: float, size: tuple[int, int]) -> np.ndarray | None:
+        """The last lightmap built, for a view of `size` pixels, at the view's pixel (x, y) from its top left: the
+        light reaching there (RGB, clamped to 0..1); None before any."""
+        held = self._targets.get("lightmap")
+        if held is None:
+            return None
+        tex, fbo = held[0], held[1]
+        column = min(max(int(x * tex.width / size[0]), 0), tex.width - 1)
+        row = min(max(int((size[1] - y) * tex.height / size[1]), 0), tex.height - 1)  # texture rows run up
+        texel = np.frombuffer(fbo.read(viewport=(column, row, 1, 1), components=4, dtype="f2"), "f2")
+        return np.clip(texel[:3].astype(np.float64), 0.0, 1.0)
+
     def build_lightmap(self, scene: Scene2D, camera: Camera2D, size: tuple[int, int], settings: Shading2D):
         if settings.method not in METHODS:
             raise ValueError(f"unknown shadow method {settings.method!r}; there are {', '.join(METHODS)}")

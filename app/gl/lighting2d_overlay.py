@@ -1,5 +1,5 @@
-"""Lines over the lit 2D scene: invalid hulls in red (always), the debug wireframe (hull outlines,
-light quads, emitting discs) and the editor's selection with its handles."""
+"""Lines over the lit 2D scene: each light's icon at its centre and invalid hulls in red (always), the debug
+wireframe (hull outlines, light quads, emitting discs) and the editor's selection with its handles."""
 from __future__ import annotations
 
 import math
@@ -15,8 +15,11 @@ INVALID = (1.0, 0.2, 0.2, 1.0)
 WIRE = (0.9, 0.9, 0.9, 0.8)
 LIGHT = (1.0, 0.85, 0.3, 0.9)
 SELECTED = (0.3, 0.9, 1.0, 1.0)
+ICON = (1.0, 0.75, 0.1, 1.0)
+ICON_SHADE = (0.1, 0.08, 0.05, 1.0)
 HANDLE_PX = 5.0     # half-size of a vertex handle, in pixels
 ROTATE_PX = 40.0    # the rotation handle's distance from the centre, in pixels
+ICON_PX = 10.0      # a light icon's radius (its rays' tips), in pixels: the tool picks a light within it
 
 
 def loop(points: np.ndarray) -> np.ndarray:
@@ -31,6 +34,17 @@ def circle(cx: float, cy: float, r: float, n: int = 48) -> np.ndarray:
 
 def square(x: float, y: float, half: float) -> np.ndarray:
     return loop(np.array([(x - half, y - half), (x + half, y - half), (x + half, y + half), (x - half, y + half)]))
+
+
+def light_icon(x: float, y: float, unit: float) -> tuple[np.ndarray, np.ndarray]:
+    """A sun at (x, y), `unit` world units a pixel: (its lines, their dark rim), so it shows on light and dark."""
+    a = np.arange(8) * math.pi / 4
+    ray = np.stack([np.cos(a), np.sin(a)], axis=1)
+    centre = np.array([x, y])
+    lines = np.concatenate([circle(x, y, 0.45 * ICON_PX * unit, 16),
+                            np.stack([centre + 0.65 * ICON_PX * unit * ray, centre + ICON_PX * unit * ray], axis=1)])
+    rim = np.concatenate([circle(x, y, (0.45 * ICON_PX - 1) * unit, 16), circle(x, y, (0.45 * ICON_PX + 1) * unit, 16)])
+    return lines, rim
 
 
 def handles(scene: Scene2D, selection, unit: float) -> dict[str, np.ndarray]:
@@ -60,8 +74,13 @@ class Lighting2DOverlay:
     def draw(self, fbo, scene: Scene2D, camera: Camera2D, flip_y: bool, debug: bool, selection=None,
              pending=None) -> None:
         unit = camera.world_per_pixel(fbo.size[1])
-        groups: list[tuple[tuple, list[np.ndarray]]] = [(INVALID, []), (WIRE, []), (LIGHT, []), (SELECTED, [])]
-        invalid, wire, lights, selected = (g[1] for g in groups)
+        groups: list[tuple[tuple, list[np.ndarray]]] = [(INVALID, []), (WIRE, []), (LIGHT, []), (ICON_SHADE, []),
+                                                        (ICON, []), (SELECTED, [])]
+        invalid, wire, lights, rims, icons, selected = (g[1] for g in groups)
+        for light in scene.lights:
+            lines, rim = light_icon(*light.position, unit)
+            icons.append(lines)
+            rims.append(rim)
         for hull in scene.hulls:
             if len(hull.points) >= 2:
                 target = invalid if not hull.valid else (wire if debug else None)

@@ -19,3 +19,6 @@ class Lighting2DWorkspaceRenderer(WorkspaceRendererBase):
         self.overlay.draw(fbo, state.scene, state.camera, settings.flip_y, settings.debug, state.selection,
                           state.pending)
         return False
+
+    def value_at(self, x: float, y: float, size: tuple[int, int]):
+        return self.lighting.lightmap_value(x, y, size)

@@ -40,6 +40,11 @@ class WorkspaceRendererBase:
     def frame_took(self, ms: float, interactive: bool) -> None:
         """The host's measure of the frame just drawn (a renderer that adapts its quality learns from it)."""
 
+    def value_at(self, x: float, y: float, size: tuple[int, int]):
+        """What the last frame, `size` pixels, shows at pixel (x, y) from its top left, for the status bar (the
+        light reaching there, say), or None; with the context current."""
+        return None
+
     def release(self) -> int:
         """Release every GL object this renderer holds (through its attributes and the app.gl objects in
         them), with its context current; returns how many."""

@@ -51,6 +51,10 @@ class WorkspaceRenderer:
         if self._last is not None:
             self._last.frame_took(ms, interactive)
 
+    def value_at(self, x: float, y: float, size: tuple[int, int]):
+        """What the last frame shows at a pixel (WorkspaceRendererBase.value_at), or None."""
+        return None if self._last is None else self._last.value_at(x, y, size)
+
     def settling(self) -> bool:
         """The last frame's renderer would still improve an unchanged scene with another frame."""
         return self._last is not None and self._last.settling()

@@ -48,6 +48,18 @@ def signed_area(points: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
+def centroid(points: np.ndarray) -> tuple[float, float]:
+    """A polygon's area centroid; its points' mean where it has no area (too few points, all on a line)."""
+    x, y = points[:, 0], points[:, 1]
+    cross = x * np.roll(y, -1) - np.roll(x, -1) * y
+    area = 0.5 * float(cross.sum())
+    if len(points) < 3 or abs(area) <= 1e-12 * float(np.ptp(points, axis=0).prod()):
+        mean = points.mean(axis=0)
+        return float(mean[0]), float(mean[1])
+    return (float(((x + np.roll(x, -1)) * cross).sum()) / (6 * area),
+            float(((y + np.roll(y, -1)) * cross).sum()) / (6 * area))
+
+
 def validity(points: np.ndarray) -> str | None:
     """None for a valid hull, else the reason: fewer than 3 points, no area, or edges that cross.
     GEOS decides simplicity in O(n log n), so 1,000-vertex hulls validate in well under a millisecond."""

@@ -43,6 +43,13 @@ class CloudsTool(ViewportTool):
         if altitude != self.state.view.altitude:
             self.run(f"camera.alt {altitude:.1f}")
 
+    def tool_name(self) -> str:
+        return "look around (drag), climb (wheel)"
+
+    def render_mode(self) -> str:
+        s = self.settings()
+        return f"{s.integration} integration, {s.steps} steps, 1/{s.downsample} buffer"
+
     def _tick(self) -> None:
         """Real time passes for the wind and the weather blend, only while this workspace is in view."""
         now = time.monotonic()

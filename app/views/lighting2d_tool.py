@@ -1,11 +1,12 @@
 """Mouse and keys of the 2D lighting workspace, each edit turned into one console command.
 
-Select mode: click a light or a hull to select it; drag it to move it; drag the selection's round
+Select mode: click a light (its icon) or a hull to select it; drag it to move it; drag the selection's round
 handle to rotate it, its square corner handle to scale it, a hull's vertex handles to move vertices;
 double-click a hull's edge to insert a vertex; right-click a vertex to delete it; Delete removes the
 selection. Empty space: left drag pans; right/middle drag pans too; the wheel zooms about the cursor.
 Draw mode (key h or the panel's button): each click adds a point, clicking the first point, a
-double-click, Enter or a right click closes the hull (one `hull.add`), Escape cancels.
+double-click, Enter or a right click closes the hull (one `hull.draw`: its origin at its centroid, where its
+handles are), Escape cancels.
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ import math
 import numpy as np
 from PySide6.QtCore import Qt
 
-from app.gl.lighting2d_overlay import HANDLE_PX, handles
+from app.gl.lighting2d_overlay import HANDLE_PX, ICON_PX, handles
 from app.views.tool import ViewportTool
 
 PICK_PX = 8.0
@@ -92,7 +93,7 @@ class Lighting2DTool(ViewportTool):
         reach = PICK_PX * self._unit()
         for i in reversed(range(len(scene.lights))):
             light = scene.lights[i]
-            if math.dist((x, y), light.position) <= max(light.radius, reach):
+            if math.dist((x, y), light.position) <= max(light.radius, reach, ICON_PX * self._unit()):  # its icon
                 return "light", i
         for i in reversed(range(len(scene.hulls))):
             hull = scene.hulls[i]
@@ -226,6 +227,24 @@ class Lighting2DTool(ViewportTool):
                                                             ZOOM_STEP, lo=1e-2, hi=1e7)
         self.run(f"lighting.view {cx:.5f} {cy:.5f} {h:.5f}")
 
+    # ---- the status bar ------------------------------------------------------------------------------
+
+    def hover(self, event) -> str:
+        """The world point under the cursor and the light reaching it (the lightmap drawn)."""
+        x, y = self._world(event)
+        light = self.viewport.value_at(event.position())
+        value = "" if light is None else f"   light {light[0]:.3f} {light[1]:.3f} {light[2]:.3f}"
+        return f"x {x:.2f}  y {y:.2f}{value}"
+
+    def tool_name(self) -> str:
+        return "draw hull (click points; Enter, right click or the first point closes)" if self.drawing else "select"
+
+    def render_mode(self) -> str:
+        s = self.settings()
+        detail = {"jitter": f", {s.samples} samples", "blur": f", blur {s.blur:g}"}.get(s.method, "")
+        scale = f", lightmap x{s.lightmap_scale:g}" if s.lightmap_scale != 1 else ""
+        return f"{s.method} shadows{detail}{scale}{', wireframe' if s.debug else ''}"
+
     def key(self, event) -> bool:
         """Keys the tool owns (True when handled): h draw, Enter/Escape end drawing, Delete removes."""
         k = event.key()
@@ -260,7 +279,7 @@ class Lighting2DTool(ViewportTool):
         self.drawing = False
         self.state.pending = []
         if len(points) >= 3:
-            self.run("hull.add " + " ".join(f"{x:.4f} {y:.4f}" for x, y in points))
+            self.run("hull.draw " + " ".join(f"{x:.4f} {y:.4f}" for x, y in points))
             self.select(("hull", len(self.state.scene.hulls) - 1))
         else:
             self.viewport.selection_changed()

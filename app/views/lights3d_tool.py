@@ -86,6 +86,15 @@ class Lights3DTool(ViewportTool):
         if distance != cam.distance:
             self.run(f"view.orbit {cam.yaw!r} {cam.pitch!r} {distance:.3f}")
 
+    def tool_name(self) -> str:
+        return "select, move (gizmo), orbit"
+
+    def render_mode(self) -> str:
+        s = self.settings()
+        methods = ", ".join(dict.fromkeys(light.shadow for light in self.state.scene.lights)) or "no lights"
+        debug = f", showing {s.debug}" if s.debug != "none" else ""
+        return f"shadows: {methods} (maps {s.map_size} px, PCF {s.pcf}){debug}"
+
     def key(self, event) -> bool:
         """Delete (or Backspace) removes the selection; other keys go to their binds."""
         if event.key() not in (Qt.Key.Key_Delete, Qt.Key.Key_Backspace) or self.state.selection is None:

@@ -12,6 +12,7 @@ from app.gl.workspace_renderer import RENDERERS
 from app.model.workspaces import WORKSPACES
 from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
+from app.views.status_bar import StatusParts
 from app.views.viewport import Viewport
 from app.views.weak_callback import weak_callback
 from app.views.workspace_views import DEFAULT_DOCK_WIDTH, VIEWS
@@ -61,16 +62,13 @@ class MainWindow(QMainWindow):
         self.editor.demos.frame = weak_callback(self.viewport, "repaint")  # timedemo draws each frame now
         self.editor.console.quit_listeners.append(weak_callback(self, "close"))
 
-        self.frame_label = QLabel()
-        self.frame_label.setMinimumWidth(320)
-        self.gl_label = QLabel()
-        self.statusBar().addPermanentWidget(self.frame_label)
-        self.statusBar().addWidget(self.gl_label)
         self.viewport.gl_ready.connect(self._gl_ready)
-        self.viewport.frame_rendered.connect(self._frame_stats)
         self.viewport.gl_error.connect(self.editor.console.error)
         self.editor.console.executed_listeners.append(weak_callback(self, "refresh", drop_args=True))
+        # after refresh among the listeners: a command's new workspace has its tool in the viewport by then
+        self.status_parts = StatusParts(self.statusBar(), self.viewport, self.editor.console)
         self.refresh()
+        self.status_parts.sync()
 
     def _tick(self) -> None:
         self.editor.demos.update()
@@ -172,10 +170,5 @@ class MainWindow(QMainWindow):
                 dialog.deleteLater()
 
     def _gl_ready(self, renderer: str) -> None:
-        self.gl_label.setText(renderer)
         self.editor.console.print(f"Shadelab on {renderer}. Type help for commands; ` toggles the console.")
-
-    def _frame_stats(self, ms: float) -> None:
-        self.frame_label.setText(f"{ms:.1f} ms/frame · {self.viewport.average_fps():.0f} frames/s "
-                                 f"(mean of last {len(self.viewport.frame_ms)}) ")
 

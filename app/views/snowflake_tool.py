@@ -63,6 +63,17 @@ class SnowflakeTool(ViewportTool):
         self._drag = None
         self._pan_from = None
 
+    def hover(self, event) -> str:
+        x, y = self._world(event)
+        flake = self._pick(x, y)
+        return f"x {x:.3f}  y {y:.3f}" + (f"   flake {flake}" if flake is not None else "")
+
+    def tool_name(self) -> str:
+        return "add, move (left) and remove (right) flakes"
+
+    def render_mode(self) -> str:
+        return f"geometry shader, level {self.state.scene.level:g}"
+
     def wheel(self, event) -> None:
         """Zoom keeping the world point under the cursor in place."""
         cx, cy, h = self.state.camera.zoomed_about(*self._world(event), event.angleDelta().y() / 120,

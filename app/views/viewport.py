@@ -26,6 +26,7 @@ class Viewport(QOpenGLWidget):
     gl_ready = Signal(str)  # the renderer's name, once the context exists
     key_command = Signal(str)  # a bound key was pressed: run this command line
     view_changed = Signal()    # view-only state of a tool (a selection) changed
+    hovered = Signal(str)      # what the tool says lies under the cursor ("" once it leaves)
 
     def __init__(self, editor, parent=None) -> None:
         super().__init__(parent)
@@ -107,6 +108,18 @@ class Viewport(QOpenGLWidget):
         self.frame_ms.append(ms)
         self.frame_rendered.emit(ms)
 
+    def value_at(self, pos):
+        """What the last frame shows at a widget position (the workspace renderer's value_at), or None."""
+        if self.renderer is None:
+            return None
+        ratio = self.devicePixelRatioF()
+        size = (round(self.width() * ratio), round(self.height() * ratio))
+        self.makeCurrent()
+        try:
+            return self.renderer.value_at(pos.x() * ratio, pos.y() * ratio, size)
+        finally:
+            self.doneCurrent()
+
     def settled(self) -> bool:
         """Whether the picture shown is final: nothing being prepared, no full frame owed after an interaction,
         no temporal history still filling."""
@@ -129,9 +142,10 @@ class Viewport(QOpenGLWidget):
         self._refining = True
         self.update()
 
-    def average_fps(self) -> float:
-        """Frames per second the recent frames would sustain (Tex3Dtrace's statistic)."""
-        return 1e3 * len(self.frame_ms) / sum(self.frame_ms) if self.frame_ms else 0.0
+    def mean_frame_ms(self) -> float:
+        """The mean time of the recent frames (Tex3Dtrace's statistic: 1000 / it is the frames per second they
+        would sustain)."""
+        return sum(self.frame_ms) / len(self.frame_ms) if self.frame_ms else 0.0
 
     def poll_shaders(self) -> None:
         """Hot reload: recompile shader files changed on disk; a broken edit keeps the old program."""
@@ -152,6 +166,11 @@ class Viewport(QOpenGLWidget):
     def mouseMoveEvent(self, event) -> None:
         if self.tool:
             self.tool.move(event)
+            self.hovered.emit(self.tool.hover(event))
+
+    def leaveEvent(self, event) -> None:
+        self.hovered.emit("")
+        super().leaveEvent(event)
 
     def mouseReleaseEvent(self, event) -> None:
         if self.tool:

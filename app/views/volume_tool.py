@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt
 
+from app.model.render_modes import MODES
 from app.model.volume_pick import first_hit
 from app.model.volume_view import AXIS_INDEX
 from app.views.tool import ViewportTool
@@ -19,11 +20,15 @@ class VolumeTool(ViewportTool):
         self.on_pick = lambda axis, index: None
         self._drag = None
 
-    def slice_under(self, event) -> int | None:
+    def voxel_under(self, event) -> tuple[int, int, int] | None:
+        """The first voxel with alpha > 0 under the cursor, else where the ray enters the box (None: it misses)."""
         vp, view = self.viewport, self.state.view
         p = event.position()
         origin, direction = view.camera.ray(p.x(), p.y(), vp.width(), vp.height())
-        hit = first_hit(self.state.volume, np.asarray(origin), np.asarray(direction))
+        return first_hit(self.state.volume, np.asarray(origin), np.asarray(direction))
+
+    def slice_under(self, event) -> int | None:
+        hit = self.voxel_under(event)
         return None if hit is None else hit[AXIS_INDEX[self.picker_axis]]
 
     def press(self, event) -> None:
@@ -54,3 +59,18 @@ class VolumeTool(ViewportTool):
 
     def wheel(self, event) -> None:
         self.run(f"orbit.step 0 0 {-0.25 * event.angleDelta().y() / 120:g}")
+
+    def hover(self, event) -> str:
+        hit = self.voxel_under(event)
+        if hit is None:
+            return ""
+        r, g, b, a = self.state.volume.pick(*hit)
+        where = f"voxel {hit[0]} {hit[1]} {hit[2]}"
+        return f"{where}   rgba {r} {g} {b} {a}" if a else f"{where} (the ray enters the box there, meeting no voxel)"
+
+    def tool_name(self) -> str:
+        return f"slice picker ({self.picker_axis})" if self.picker_axis else "orbit"
+
+    def render_mode(self) -> str:
+        mode = self.state.view.mode
+        return f"mode {mode}: {MODES[mode].name}"
