@@ -2,6 +2,7 @@
 point and the light there, a voxel and its colour), the current tool and render mode."""
 import re
 
+import numpy as np
 import pytest
 from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
@@ -99,6 +100,19 @@ def test_the_voxel_and_its_colour_under_the_cursor(volume_window):
     assert tuple(rgba) == volume.pick(x, y, z) and rgba[3] > 0
     hover(vp, QPoint(2, 2))  # past the box
     assert status(window)[0] == ""
+
+
+def test_a_scalar_volume_shows_the_value_under_its_colour(volume_window, tmp_path):
+    window = volume_window
+    values = np.full((24, 24, 24), 1000, np.int16)
+    values[4:20, 4:20, 4:20] = np.arange(16 ** 3, dtype=np.int16).reshape(16, 16, 16) + 2000
+    np.save(tmp_path / "v.npy", values)
+    assert window.run(f"load {tmp_path / 'v.npy'}") and window.run("vol.window 1500 6000")
+    vp = window.viewport
+    hover(vp, QPoint(vp.width() // 2, vp.height() // 2))
+    match = re.match(r"^voxel (\d+) (\d+) (\d+)   rgba \d+ \d+ \d+ \d+   value (\d+)$", status(window)[0])
+    x, y, z, value = map(int, match.groups())
+    assert value == values[z, y, x] and value >= 2000
 
 
 def test_the_volume_tool_and_render_mode(volume_window, qtbot):

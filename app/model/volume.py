@@ -319,6 +319,10 @@ class Volume:
     def pick(self, x: int, y: int, z: int) -> tuple[int, int, int, int]:
         return tuple(int(c) for c in self.data[self._voxel(x, y, z)])
 
+    def scalar_at(self, x: int, y: int, z: int) -> float | None:
+        """The loaded value under a voxel's colour, for a scalar volume; None for an RGBA one."""
+        return None if self.scalars is None else float(self.scalars.values[self._voxel(x, y, z)])
+
     # --- edits ----------------------------------------------------------------------------------
 
     def set_voxel(self, x: int, y: int, z: int, rgba: Sequence[int]) -> None:

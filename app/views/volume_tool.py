@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt
 
+from app.console.text import number
 from app.model.render_modes import MODES
 from app.model.volume_pick import first_hit
 from app.model.volume_view import AXIS_INDEX
@@ -66,7 +67,10 @@ class VolumeTool(ViewportTool):
             return ""
         r, g, b, a = self.state.volume.pick(*hit)
         where = f"voxel {hit[0]} {hit[1]} {hit[2]}"
-        return f"{where}   rgba {r} {g} {b} {a}" if a else f"{where} (the ray enters the box there, meeting no voxel)"
+        if not a:
+            return f"{where} (the ray enters the box there, meeting no voxel)"
+        value = self.state.volume.scalar_at(*hit)
+        return f"{where}   rgba {r} {g} {b} {a}" + ("" if value is None else f"   value {number(value)}")
 
     def tool_name(self) -> str:
         return f"slice picker ({self.picker_axis})" if self.picker_axis else "orbit"
