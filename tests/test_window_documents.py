@@ -15,6 +15,7 @@ from app.editor import Editor
 from app.io import snowflake_scene
 from app.resources import SCENES
 from app.views.application import startup_command
+from app.views.main_window import MainWindow
 from dialogs import answer, said
 
 Button = QMessageBox.StandardButton
@@ -183,7 +184,7 @@ CRASHING_SESSION = """
 """
 
 
-def test_a_crashed_sessions_autosave_is_offered_back(make_window, qtbot, tmp_path, monkeypatch):
+def test_a_crashed_sessions_autosave_is_offered_back(qtbot, tmp_path, monkeypatch):
     monkeypatch.setenv("SHADELAB_CACHE_DIR", str(tmp_path / "cache"))
     path = saved_flakes(tmp_path)
     crash = subprocess.run([sys.executable, "-c", textwrap.dedent(CRASHING_SESSION.format(path=path))],
@@ -193,7 +194,9 @@ def test_a_crashed_sessions_autosave_is_offered_back(make_window, qtbot, tmp_pat
     sessions = list((tmp_path / "cache" / "autosave").iterdir())
     assert len(sessions) == 1 and (sessions[0] / "snowflake.json").is_file()
     seen = answer(Button.Yes)
-    window = make_window(asks=True)
+    window = MainWindow()  # the offer comes once it is up, whether or not it is active yet
+    qtbot.addWidget(window, before_close_func=lambda w: setattr(w.editor.documents, "confirm", None))
+    window.show()
     qtbot.waitUntil(lambda: len(seen) == 1)
     assert "did not exit cleanly" in said(seen)[0] and "Snowflake: flakes.json" in said(seen)[0]
     assert window.editor.digest()["snowflake"] == autosaved
