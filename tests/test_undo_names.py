@@ -1,5 +1,6 @@
 """Every undo step has a name (Edit > Undo says "Undo Stroke"): each workspace's edits, a drag as one step,
 and undo and redo handing the name across."""
+import numpy as np
 import pytest
 
 from app.console.demo import VirtualClock
@@ -59,3 +60,12 @@ def test_a_script_is_one_named_step_in_the_volume(editor, tmp_path):
 
 def test_nothing_to_undo_has_no_name(editor):
     assert names(editor) == (None, None)
+
+
+def test_a_scalar_volumes_load_and_window_are_named(editor, tmp_path):
+    np.save(tmp_path / "ramp.npy", np.linspace(0, 1, 8 * 8 * 8, dtype=np.float32).reshape(8, 8, 8))
+    assert editor.execute("workspace volume") and editor.execute("load ramp.npy")
+    assert names(editor) == ("Load Volume", None)
+    assert editor.execute("vol.window 0.2 0.8")
+    assert names(editor) == ("Set Window", None)
+    assert editor.execute("undo") and names(editor) == ("Load Volume", "Set Window")
