@@ -51,6 +51,8 @@ def test_undo_and_redo_are_named_and_keyed_in_every_workspace(window, qtbot, wor
     assert set(names()) == {"snowflake", "lighting2d", "volume", "clouds", "lights3d"}  # each one is here
     undo, redo = window.menus.undo, window.menus.redo
     window.run(f"workspace {workspace}")
+    window.windowHandle().requestActivate()  # the clouds' first showing has a progress dialog: under Xvfb no
+    qtbot.waitUntil(window.isActiveWindow)   # window manager gives the window the focus back after it
     state = window.editor.current
     before = state.document_digest()  # the clouds' full digest moves with the wind
     window.run(edit)
