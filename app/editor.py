@@ -30,11 +30,15 @@ class Editor:
         self.lua = builtins.register(self.console, self.binds)
         self.workspaces = Workspaces([info.state() for info in WORKSPACES], DEFAULT_WORKSPACE)
         self.demos = Demos(self.console, clock or MonotonicClock(), self.opening_commands, frame)
-        core.register(self.console, self.workspaces)
+        self.documents = core.register(self.console, self.workspaces)
         for state in self.workspaces:
-            COMMANDS[state.name].register(self.console, state, self.demos.arg_checks.scoped(state.name))
+            checks = self.demos.arg_checks.scoped(state.name)
+            COMMANDS[state.name].register(self.console, state, checks)
+            checks.reshaped_by(state.name, *core.REPLACING)  # a demo's checks cannot know what a file holds
+        self.documents.track()
         if configs:
             self.run_start_configs()
+        self.documents.forget_changes()  # the scenes an editor starts on are no one's unsaved work
 
     def run_start_configs(self) -> None:
         """default.cfg and shadelab.cfg from the resources, then the user's archived config."""

@@ -81,12 +81,19 @@ def pytest_configure(config):
 
 @pytest.fixture
 def make_window(qtbot):
-    """Open a main window on its default scene, shown on the test's X server (pytest-xvfb)."""
+    """Open a main window on its default scene, shown on the test's X server (pytest-xvfb). Unless `asks`, it
+    does not ask to save unsaved changes before they go (a sample, closing): a dialog would wait for an answer
+    no test gives. The tests of those questions make one that asks, and answer; none asks when the test ends."""
     from app.views.main_window import MainWindow
 
-    def make():
+    def never_ask(w) -> None:
+        w.editor.documents.confirm = None
+
+    def make(asks: bool = False):
         w = MainWindow()
-        qtbot.addWidget(w)
+        if not asks:
+            never_ask(w)
+        qtbot.addWidget(w, before_close_func=never_ask)
         w.show()
         qtbot.waitExposed(w)
         w.windowHandle().requestActivate()  # no window manager under Xvfb activates it for us

@@ -175,7 +175,7 @@ def test_completion(editor, line, expected_line, expected):
 
 @pytest.mark.parametrize("arg, line", [
     ("my.cfg", "exec my.cfg"), ("ring.lua", "lua ring.lua"), ("tour.demo", "play tour.demo"),
-    ("scene one.json", "scene.load 'scene one.json'"), ("head.r3", "load head.r3"),
+    ("scene one.json", "open 'scene one.json'"), ("head.r3", "open head.r3"),  # in the file's own workspace
 ])
 def test_first_argument_of_the_editor(arg, line):
     from app.views.application import startup_command

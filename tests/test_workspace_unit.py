@@ -47,7 +47,7 @@ def register(console, state: DummyState, checks) -> None:
 
     @reg.command("sample", "count:int", "Set the dummy's counter")
     def sample(count: int) -> None:
-        state.history.checkpoint()
+        state.history.checkpoint("Set Count")
         state.count = count
 
 

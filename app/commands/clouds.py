@@ -69,7 +69,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
             scene = clouds_scene.load(path)
         except CloudSceneError as exc:
             raise CommandError(str(exc)) from None
-        history.checkpoint()
+        history.checkpoint("Load Clouds")
         state.params = scene.params
         if scene.sun is not None:
             state.set_sun(*scene.sun)
@@ -82,7 +82,8 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         seed = int(source[1]) if source[0] == "new" else None
         clouds_scene.save(path, CloudScene(state.params, (state.view.sun_azimuth, state.view.sun_elevation), seed))
 
-    state.files = SceneFiles(load, save, (".json",))
+    state.files = SceneFiles(load, save, (".json",), clouds_scene.FORMAT, new=lambda: clouds_reset(),
+                             replacing=("clouds.reset",))
 
     # ---- parameters ---------------------------------------------------------------------------------
 
@@ -98,7 +99,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     def clouds_set(name: str, value: float) -> None:
         params = checked_params(name, value)
         if params != state.params:
-            history.checkpoint(("clouds.set", name))  # a slider's drag is one step
+            history.checkpoint(f"Set {name.replace('_', ' ')}", ("clouds.set", name))  # a slider's drag: one step
             state.params = params
 
     @reg.command("clouds.list", "", "List the cloud parameters with their values and ranges", recorded=False)
@@ -110,7 +111,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     @reg.command("clouds.reset", "", "Set every cloud parameter back to its default")
     def clouds_reset() -> None:
         if state.params != CloudParams():
-            history.checkpoint()
+            history.checkpoint("Reset Clouds")
             state.params = CloudParams()
 
     # ---- camera and sun -----------------------------------------------------------------------------
@@ -145,7 +146,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     def sun_dir(azimuth: float, elevation: float) -> None:
         azimuth, elevation = sun(azimuth, elevation)
         if (azimuth, elevation) != (state.view.sun_azimuth, state.view.sun_elevation):
-            history.checkpoint("sun")
+            history.checkpoint("Move Sun", "sun")
             state.set_sun(azimuth, elevation)
 
     @checks.add("sun.time")
@@ -174,7 +175,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         if seed_of(seed) is None:
             source = state.weather_source.split()
             seed = (int(source[1]) + 1) % (MAX_SEED + 1) if source[0] == "new" else 1
-        history.checkpoint()
+        history.checkpoint("New Weather")
         state.new_weather(weather_map(seed, WEATHER_SIZE), f"new {seed}")
         console.print(f"weather {seed}, blending in over {number(state.params.weather_blend)} s")
 
@@ -185,7 +186,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
             weather = load_weather(files.readable(console, path))
         except WeatherError as exc:
             raise CommandError(str(exc)) from None
-        history.checkpoint()
+        history.checkpoint("Load Weather")
         state.new_weather(resample(weather, WEATHER_SIZE), f"load {shlex.quote(path)}")
         console.print(f"weather from {path}, blending in over {number(state.params.weather_blend)} s")
 

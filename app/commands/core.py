@@ -1,14 +1,20 @@
 """Commands every workspace shares: switching workspaces, scene files, undo, digests. Each acts on the
-current workspace through what every workspace has (app/model/workspace.py), never on one by name."""
+current workspace (or, for `open`, the one a file belongs to) through what every workspace has
+(app/model/workspace.py), never on one by name."""
 from __future__ import annotations
 
 import hashlib
+import shlex
 
+from app.commands.documents import Documents
 from app.console import files
 from app.console.console import Console
 from app.console.registry import CommandError
-from app.model.workspace import Workspaces
+from app.model.workspace import Workspace, Workspaces
 from app.model.workspaces import names
+
+
+REPLACING = ("open", "recover", "scene.load", "scene.new")  # the commands here that replace a workspace's scene
 
 
 def digest(console: Console, workspaces: Workspaces) -> dict[str, str]:
@@ -23,9 +29,12 @@ def digest(console: Console, workspaces: Workspaces) -> dict[str, str]:
     return parts
 
 
-def register(console: Console, workspaces: Workspaces) -> None:
+def register(console: Console, workspaces: Workspaces) -> Documents:
+    """The shared commands; returns the workspaces' documents (track() them once every workspace's commands
+    are registered)."""
     reg = console.registry
     reg.scope = workspaces.name  # bare command names resolve in the current workspace first
+    documents = Documents(console, workspaces)
 
     @reg.command("workspace", "[name]", "Show or switch the workspace: " + ", ".join(names()),
                  completer=lambda prefix: [n for n in names() if n.startswith(prefix)])
@@ -45,16 +54,56 @@ def register(console: Console, workspaces: Workspaces) -> None:
 
     @reg.command("scene.load", "path", "Load the current workspace's scene file (checked before anything changes)")
     def scene_load(path: str) -> None:
-        scene_files().load(str(files.readable(console, path)))
+        load = scene_files().load
+        readable = str(files.readable(console, path))
+        documents.may_replace(workspaces.current, f"scene.load {shlex.quote(path)}")
+        load(readable)
+        documents.named(workspaces.current, readable)
 
-    @reg.command("scene.save", "path", "Save the current workspace's scene (atomically)", recorded=False)
-    def scene_save(path: str) -> None:
+    def load_in_its_workspace(path: str, line: str) -> tuple[Workspace, str]:
+        """Load `path` into the workspace it belongs to (asking first if that drops unsaved changes there) and
+        switch to it; that workspace and the path read."""
+        readable = str(files.readable(console, path))
+        state = documents.owner(readable)
+        documents.may_replace(state, line)
+        state.files.load(readable)
+        workspace(state.name)
+        return state, readable
+
+    @reg.command("open", "path", "Open a scene or volume file in the workspace it belongs to (by its suffix, "
+                 "and a JSON file's format), and switch to it",
+                 completer=lambda p: files.complete(p, documents.suffixes()))
+    def open_(path: str) -> None:
+        documents.named(*load_in_its_workspace(path, f"open {shlex.quote(path)}"))
+
+    @reg.command("recover", "autosave [original]", "Open an autosaved scene in its workspace as unsaved changes "
+                 "to the file `original` (untitled without it)")
+    def recover(autosave: str, original: str | None = None) -> None:
+        state, _read = load_in_its_workspace(autosave, f"recover {shlex.quote(autosave)}")
+        documents.named(state, original, recovered=True)
+
+    @reg.command("scene.new", "", "Put an empty (or the default) scene in the current workspace, untitled")
+    def scene_new() -> None:
+        new = scene_files().new
+        if new is None:
+            raise CommandError(f"the {workspaces.name} workspace has no empty scene")
+        documents.may_replace(workspaces.current, "scene.new")
+        new()
+        documents.named(workspaces.current, None)
+
+    @reg.command("scene.save", "[path]", "Save the current workspace's scene (atomically); without a path, to the "
+                 "file it was opened from or last saved to", recorded=False)
+    def scene_save(path: str | None = None) -> None:
         save = scene_files().save
+        path = path or documents.path(workspaces.current)
+        if path is None:
+            raise CommandError("the scene is untitled: give the file to save it to")
         target = files.writable(console, path)
         try:
             save(target)
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
+        documents.named(workspaces.current, str(target))
         console.print(f"saved {target}")
 
     @reg.command("undo", "", "Undo the last edit of the current workspace")
@@ -72,3 +121,5 @@ def register(console: Console, workspaces: Workspaces) -> None:
     def digest_() -> None:
         for name, value in digest(console, workspaces).items():
             console.print(f"{name} {value}")
+
+    return documents

@@ -20,6 +20,7 @@ from app.io.textures2d import BUILTIN, image
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D, \
     Shading2D, centroid
 from app.model.lighting2d_workspace import HULL_KEYS, Lighting2DWorkspace, fmt
+from app.model.history import setting_name
 from app.model.workspace import SceneFiles
 from app.resources import SCENES
 
@@ -84,9 +85,9 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
             raise CommandError(f"no hull {index}; there are {len(scene().hulls)}")
         return scene().hulls[index]
 
-    def edit(key=None):
-        """Snapshot for undo before an edit; a run of edits with the same key (a drag) is one step."""
-        history.checkpoint(key)
+    def edit(name: str, key=None):
+        """Snapshot for undo before an edit called `name`; a run of edits with the same key (a drag) is one step."""
+        history.checkpoint(name, key)
 
     def refused(exc: Lighting2DError):
         return CommandError(str(exc))
@@ -98,10 +99,10 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         except Lighting2DError as exc:
             raise refused(exc) from None
 
-    def append(items: list, item, limit: int) -> int:
+    def append(items: list, item, limit: int, name: str) -> int:
         if len(items) >= limit:
             raise CommandError(f"a scene holds at most {limit} of them")
-        edit()
+        edit(name)
         items.append(item)
         scene().touch()
         return len(items) - 1
@@ -121,7 +122,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     @reg.command("lighting.clear", "", "Empty the 2D scene (ambient, view and images stay)")
     def clear() -> None:
-        edit()
+        edit("Clear Scene")
         scene().lights.clear()
         scene().hulls.clear()
         scene().touch()
@@ -145,7 +146,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
             raise CommandError(str(exc)) from None
         for _where, name in loaded.images():
             check_image(name)
-        edit()
+        edit("Load Scene")
         state.replace(loaded)
         console.print(f"loaded {count(len(loaded.lights), 'light')} and {count(len(loaded.hulls), 'hull')} "
                       f"from {Path(path).name}")
@@ -155,7 +156,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         scene().view = (cam.cx, cam.cy, cam.height)
         scene_file.save(path, scene())
 
-    state.files = SceneFiles(load, save, (".json",))
+    state.files = SceneFiles(load, save, (".json",), scene_file.FORMAT, new=clear,
+                             replacing=("lighting.sample", "lighting.clear"))
     state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene
 
     @checks.add("ambient")
@@ -165,7 +167,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)")
     def ambient(*rgb: float) -> None:
         value = ambient_value(*rgb)
-        edit()
+        edit("Set Ambient")
         scene().ambient = value
         scene().touch()
 
@@ -181,7 +183,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path")
     def background(name: str) -> None:
         check_image(name)
-        edit()
+        edit("Set Background")
         scene().background = name
         scene().touch()
 
@@ -189,7 +191,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def normalmap(name: str) -> None:
         if name != "none":
             check_image(name)
-        edit()
+        edit("Set Normal Map")
         scene().normal_map = None if name == "none" else name
         scene().touch()
 
@@ -222,7 +224,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
                  completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)])
     def light_add(*args) -> None:
         light = new_light(*args)
-        index = append(scene().lights, light, scene_file.MAX_LIGHTS)
+        index = append(scene().lights, light, scene_file.MAX_LIGHTS, "Add Light")
         console.print(f"light {index}: {light.kind} at ({number(light.position[0])}, {number(light.position[1])})")
 
     @checks.add("light.set", "lighting2d")
@@ -246,7 +248,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         light, changed = light_change(index, key, values)
         if changed == light:
             return
-        edit(("light.set", index, key))
+        edit(setting_name("Light", key), ("light.set", index, key))
         scene().lights[index] = changed
         scene().touch()
 
@@ -260,7 +262,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     @reg.command("light.remove", "index:int", "Remove a light")
     def light_remove(index: int) -> None:
         light_at(index)
-        edit()
+        edit("Remove Light")
         del scene().lights[index]
         scene().touch()
 
@@ -295,7 +297,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         return checked_hull(coords(values))
 
     def add_hull(hull: Hull) -> None:
-        index = append(scene().hulls, hull, scene_file.MAX_HULLS)
+        index = append(scene().hulls, hull, scene_file.MAX_HULLS, "Add Hull")
         console.print(f"hull {index}: {count(len(hull.points), 'point')}")
         report(index)
 
@@ -344,7 +346,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         hull, value = hull_value(index, key, values)
         if getattr(hull, key) == value:
             return
-        edit(("hull.set", index, key))
+        edit(setting_name("Hull", key), ("hull.set", index, key))
         if key == "enabled":
             hull.enabled = value
         else:
@@ -363,8 +365,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         checked_hull(points)  # refuse before anything changes
         return points
 
-    def set_points(index: int, points: np.ndarray, key) -> None:
-        edit(key)
+    def set_points(index: int, points: np.ndarray, name: str, key=None) -> None:
+        edit(name, key)
         hull_at(index).set_points(points)
         scene().touch()
         report(index)
@@ -375,7 +377,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     @reg.command("hull.points", "index:int coords:float...", "Replace a hull's local points")
     def hull_points(index: int, values: list[float]) -> None:
-        set_points(index, replaced_points(index, values), None)
+        set_points(index, replaced_points(index, values), "Set Hull Points")
 
     def vertex_at(index: int, vertex: int) -> np.ndarray:
         points = hull_at(index).points
@@ -392,7 +394,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     @reg.command("hull.vertex", "index:int vertex:int x:float y:float", "Move one vertex (local coordinates)",
                  quiet=True)
     def hull_vertex(index: int, vertex: int, x: float, y: float) -> None:
-        set_points(index, moved_vertex(index, vertex, x, y), ("hull.vertex", index, vertex))
+        set_points(index, moved_vertex(index, vertex, x, y), "Move Vertex", ("hull.vertex", index, vertex))
 
     @checks.add("hull.insert", "lighting2d")
     def inserted_vertex(index: int, vertex: int, x: float, y: float) -> np.ndarray:
@@ -403,7 +405,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)")
     def hull_insert(*args) -> None:
-        set_points(args[0], inserted_vertex(*args), None)
+        set_points(args[0], inserted_vertex(*args), "Insert Vertex")
 
     @checks.add("hull.delete", "lighting2d")
     def deleted_vertex(index: int, vertex: int) -> np.ndarray:
@@ -411,12 +413,12 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     @reg.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull")
     def hull_delete(index: int, vertex: int) -> None:
-        set_points(index, deleted_vertex(index, vertex), None)
+        set_points(index, deleted_vertex(index, vertex), "Delete Vertex")
 
     @reg.command("hull.remove", "index:int", "Remove a hull")
     def hull_remove(index: int) -> None:
         hull_at(index)
-        edit()
+        edit("Remove Hull")
         del scene().hulls[index]
         for light in scene().lights:  # ignored-hull indices follow the hulls that stay
             light.ignored_hulls = tuple(i - (i > index) for i in light.ignored_hulls if i != index)

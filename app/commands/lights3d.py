@@ -18,6 +18,7 @@ from app.model.lights3d import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_
 from app.model.lights3d_render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
                                                 Lights3DRenderSettings)
 from app.model.lights3d_workspace import ITEM_KINDS, Lights3DWorkspace
+from app.model.history import setting_name
 from app.model.workspace import SceneFiles
 
 # What a field takes: the names of its numbers, or the words it may be.
@@ -79,15 +80,15 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     reg.add_cvar(Cvar("r_shadowDebug", str, defaults.debug, "3D lights: a debug view instead of the lit scene",
                       choices=DEBUG_VIEWS))
 
-    def apply(scene: Scene3D, key=None) -> None:
-        """Put an edited scene in place as one undo step; edits with the same key (one drag's) as one."""
+    def apply(scene: Scene3D, name: str, key=None) -> None:
+        """Put an edited scene in place as one undo step called `name`; edits with the same key (one drag's) as one."""
         if scene != state.scene:
-            history.checkpoint(key)
+            history.checkpoint(name, key)
             state.scene = scene
 
     def remove(kind: str, index: int) -> None:
         state.item(kind, index)
-        history.checkpoint()
+        history.checkpoint(f"Remove {kind.title()}")
         state.remove(kind, index)
 
     def position(coords: tuple) -> tuple | None:
@@ -103,18 +104,19 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
             scene = lights3d_scene.load(path)
         except Lights3DSceneError as exc:
             raise CommandError(str(exc)) from None
-        history.checkpoint()
+        history.checkpoint("Load Scene")
         state.replace(scene)
         console.print(f"loaded {count(len(scene.objects), 'object')} and {count(len(scene.lights), 'light')} "
                       f"from {path}")
 
-    state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",))
+    state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",),
+                             lights3d_scene.FORMAT, new=lambda: reset(), replacing=("lights3d.reset",))
 
     @reg.command("lights3d.reset", "", "Put the default scene back (seed 004's two lights over five objects)")
     def reset() -> None:
         scene = default_scene()
         if (state.scene, state.selection) != (scene, None):
-            history.checkpoint()
+            history.checkpoint("Reset Scene")
             state.replace(scene)
 
     @checks.add("lights3d.set")
@@ -125,7 +127,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     @reg.command("lights3d.set", "field values...", "Set the scene's ambient r g b (0..1), shininess S (the "
                  "specular exponent) or specular K (its strength)", completer=lambda p: _starting(SETTINGS, p))
     def lights3d_set(field: str, words: list[str]) -> None:
-        apply(set_scene(field, words), ("lights3d.set", field))
+        apply(set_scene(field, words), f"Set {field}", ("lights3d.set", field))
 
     @checks.add("lights3d.select", "lights3d")
     def selection(kind: str, index: int | None = None):
@@ -161,7 +163,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
                  "the origin) with its size (object.set has the numbers by kind)",
                  completer=lambda p: _starting(OBJECT_KINDS, p))
     def object_add(*args) -> None:
-        apply(added_object(*args))
+        apply(added_object(*args), "Add Object")
         obj = state.scene.objects[-1]
         console.print(f"object {len(state.scene.objects) - 1}: {obj.kind} at {_words(obj.position)}")
 
@@ -172,7 +174,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     @reg.command("object.move", "index:int x:float y:float z:float", "Move an object's centre (a drag is one "
                  "undo step)", quiet=True)
     def object_move(index: int, x: float, y: float, z: float) -> None:
-        apply(moved_object(index, x, y, z), ("object.move", index))
+        apply(moved_object(index, x, y, z), "Move Object", ("object.move", index))
 
     @checks.add("object.set", "lights3d")
     def set_object(index: int, field: str, words: list[str]) -> Scene3D:
@@ -185,7 +187,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
                  "segments; torus major minor segments sides; lprism sx sy sz thickness; plane size) or colour "
                  "r g b (0..1)")
     def object_set(index: int, field: str, words: list[str]) -> None:
-        apply(set_object(index, field, words), ("object.set", index, field))
+        apply(set_object(index, field, words), setting_name("Object", field), ("object.set", index, field))
 
     checks.add("object.remove", "lights3d")(lambda index: state.item("object", index))
 
@@ -211,7 +213,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
                  "x y z (default: the model's, 100 above the origin, shining down)",
                  completer=lambda p: _starting(LIGHT_KINDS, p))
     def light_add(*args) -> None:
-        apply(added_light(*args))
+        apply(added_light(*args), "Add Light")
         light = state.scene.lights[-1]
         console.print(f"light {len(state.scene.lights) - 1}: {light.kind} at {_words(light.position)}")
 
@@ -225,7 +227,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
                  "colour r g b (0..16), range, falloff, angle (a spot's half-angle, degrees), shadow (" +
                  "|".join(SHADOW_METHODS) + ") or kind (" + "|".join(LIGHT_KINDS) + ")")
     def light_set(index: int, field: str, words: list[str]) -> None:
-        apply(set_light(index, field, words), ("light3d.set", index, field))
+        apply(set_light(index, field, words), setting_name("Light", field), ("light3d.set", index, field))
 
     checks.add("light3d.move", "lights3d")(lambda index, *xyz: set_light(index, "position", list(map(repr, xyz))))
 

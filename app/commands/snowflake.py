@@ -27,11 +27,12 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
             flakes, level = snowflake_scene.load(path)
         except SceneError as exc:
             raise CommandError(str(exc)) from None
-        history.checkpoint()
+        history.checkpoint("Load Scene")
         scene.replace(flakes, level)
         console.print(f"loaded {count(len(flakes), 'flake')} from {path}")
 
-    state.files = SceneFiles(load, lambda path: snowflake_scene.save(path, scene), (".json",))
+    state.files = SceneFiles(load, lambda path: snowflake_scene.save(path, scene), (".json",),
+                             snowflake_scene.FORMAT, new=lambda: clear(), replacing=("snow.clear",))
 
     @checks.add("snow.level")
     def level_value(value: float | None = None) -> float | None:
@@ -58,14 +59,14 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         if level_value(value) is None:
             console.print(f"snow.level is {number(scene.level)}")
         elif value != scene.level:
-            history.checkpoint()
+            history.checkpoint("Set Level")
             scene.level = value
 
     @reg.command("snow.step", "delta:float", "Change the level by delta, clamped to the valid range (keys w/s)")
     def step(delta: float) -> None:
         target = min(MAX_LEVEL, max(0.0, round(scene.level + delta, 6)))
         if target != scene.level:
-            history.checkpoint()
+            history.checkpoint("Step Level")
             scene.level = target
 
     @reg.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)")
@@ -73,24 +74,24 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         new_flake(x, y, radius)
         if len(scene.flakes) >= MAX_FLAKES:
             raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
-        history.checkpoint()
+        history.checkpoint("Add Flake")
         console.print(f"flake {scene.add(x, y, radius)} at ({number(x)}, {number(y)})")
 
     @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)
     def move(index: int, x: float, y: float) -> None:
         flake_at(index, x, y)
-        history.checkpoint(("snow.move", index))  # a drag's moves: one step
+        history.checkpoint("Move Flake", ("snow.move", index))  # a drag's moves: one step
         scene.move(index, x, y)
 
     @reg.command("snow.remove", "index:int", "Remove a flake")
     def remove(index: int) -> None:
         flake_at(index)
-        history.checkpoint()
+        history.checkpoint("Remove Flake")
         scene.remove(index)
 
     @reg.command("snow.clear", "", "Remove every flake")
     def clear() -> None:
-        history.checkpoint()
+        history.checkpoint("Clear Flakes")
         scene.clear()
 
     @reg.command("snow.list", "", "List the flakes")

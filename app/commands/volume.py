@@ -75,12 +75,13 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     def volume() -> Volume:
         return state.volume
 
-    def replace(data, what: str) -> None:
-        """An RGBA volume, or the scalars of a 16-bit or float file, coloured through the default window."""
+    def replace(data, what: str, step: str) -> None:
+        """An RGBA volume, or the scalars of a 16-bit or float file, coloured through the default window, as
+        the undo step `step`."""
         if data.ndim == 3:
-            volume().replace_scalars(data)
+            volume().replace_scalars(data, name=step)
         else:
-            volume().replace(data)
+            volume().replace(data, step)
         state.clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
         if (scalars := volume().scalars) is not None:
@@ -103,7 +104,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
-        replace(Volume.new(w, h, d).data, "new volume")
+        replace(Volume.new(w, h, d).data, "new volume", "New Volume")
 
     @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
                  "float ones through a window)",
@@ -115,7 +116,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             data = read_volume(found or files.readable(console, path), max_bytes=volume_model.MAX_BYTES)
         except FormatError as exc:
             raise CommandError(str(exc)) from None
-        replace(data, f"loaded {path}")
+        replace(data, f"loaded {path}", "Load Volume")
 
     def as_scalars(path: str) -> bool:
         """A scalar volume saves its scalars in the formats that hold them, its colours in the others."""
@@ -147,8 +148,9 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
                           "are not kept in the file)")
 
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
-    # scalar volume)
-    state.files = SceneFiles(load, write, (".r3", *(s for s in SUPPORTED if s != ".r3")))
+    # scalar volume); File > New makes an empty volume of the same size
+    state.files = SceneFiles(load, write, (".r3", *(s for s in SUPPORTED if s != ".r3")),
+                             new=lambda: new(*volume().size), replacing=("new", "sample"), verbs=("load", "save"))
 
     @checks.add("sample")
     def sample_args(name: str, size: int = 64) -> tuple[str, int]:
@@ -162,7 +164,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
                  completer=lambda p: [s for s in SAMPLES if s.startswith(p)])
     def sample(*args) -> None:
         name, size = sample_args(*args)
-        replace(make(name, size), f"sample {name}")
+        replace(make(name, size), f"sample {name}", "Sample")
 
     @checks.add("voxel", "volume")
     def voxel_args(x: int, y: int, z: int, r: int, g: int, b: int, a: int):

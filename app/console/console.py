@@ -156,6 +156,16 @@ class Console:
         finally:
             self.origins.pop()
 
+    @contextmanager
+    def as_user(self):
+        """Commands run inside are the user's own, whatever runs now: what the user chose in a dialog (a file,
+        "save") that a key's bind opened. Only a host's dialogs use it; scripts cannot reach it."""
+        outer, self.origins = self.origins, []
+        try:
+            yield
+        finally:
+            self.origins = outer
+
     def run_lines(self, lines, label: str, origin: Origin, on_failure=None) -> bool:
         """Run the lines an alias or a config file holds, as `origin`; False if any failed (each reported
         through on_failure(number, line), the rest still run). With everything they run in turn, at most

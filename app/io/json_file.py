@@ -45,21 +45,38 @@ def storable(what: str, *values: float) -> None:
 Validator = Callable[[dict], dict]
 
 
-def read_versioned(path: str | os.PathLike, fmt: str, version: int, error: type[Exception],
-                   validator: Validator) -> dict:
-    """The file's object, once it parsed, names `fmt` at `version` and passed `validator`; otherwise
-    `error` saying why (the path first)."""
+class JSONFileError(ValueError):
+    """A file that is no JSON this project reads (format_name's refusal)."""
+
+
+def _parsed(path: str | os.PathLike, error: type[Exception]):
+    """The file's JSON value, read within the limits; otherwise `error` saying why (the path first)."""
     try:
         raw = read_regular_bytes(path, MAX_BYTES)
     except OSError as exc:
         raise error(f"cannot read {path}: {exc.strerror}") from None
     try:
         # A float that overflows to inf needs no hook: every number in a schema has a range that refuses it.
-        data = json.loads(raw.decode("utf-8"), parse_int=_parse_int, parse_constant=_parse_constant)
+        return json.loads(raw.decode("utf-8"), parse_int=_parse_int, parse_constant=_parse_constant)
     except RecursionError:  # the C parser recurses once per bracket
         raise error(f"{path} is not valid JSON: nested too deeply") from None
     except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError and _Refused are ValueErrors
         raise error(f"{path} is not valid JSON: {exc}") from None
+
+
+def format_name(path: str | os.PathLike) -> str | None:
+    """The "format" a JSON file names ("shadelab.lighting2d"), which tells the workspaces' files apart; None if
+    it names none. JSONFileError if it cannot be read or parsed."""
+    data = _parsed(path, JSONFileError)
+    name = data.get("format") if isinstance(data, dict) else None
+    return name if isinstance(name, str) else None
+
+
+def read_versioned(path: str | os.PathLike, fmt: str, version: int, error: type[Exception],
+                   validator: Validator) -> dict:
+    """The file's object, once it parsed, names `fmt` at `version` and passed `validator`; otherwise
+    `error` saying why (the path first)."""
+    data = _parsed(path, error)
     if not isinstance(data, dict) or data.get("format") != fmt:
         raise error(f"{path} is not a {fmt} file")
     if data.get("version") != version:

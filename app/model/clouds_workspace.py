@@ -91,6 +91,10 @@ class CloudsWorkspace(Workspace):
                                      self.wind_time),
                 "clouds.camera": short_hash(v.altitude, v.yaw, v.pitch)}
 
+    def document_digest(self) -> str:
+        """What a clouds file holds: the parameters, the sun and the weather (not the clock the wind moves)."""
+        return short_hash(self.params, self.view.sun_azimuth, self.view.sun_elevation, self.weather_source)
+
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the parameters, the view, the sun, the newest weather (blended in at once)
         and the clock; a blend under way starts finished."""

@@ -76,6 +76,9 @@ class Lights3DWorkspace(Workspace):
     def digest(self) -> dict[str, str]:
         return {"lights3d": short_hash(self.scene, self.selection), "lights3d.camera": short_hash(*self.camera_key())}
 
+    def document_digest(self) -> str:
+        return short_hash(self.scene)  # a selection is no change to the file
+
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the scene (from a snapshot file beside the demo unless it is the default one),
         the camera and the selection."""

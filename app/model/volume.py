@@ -92,6 +92,7 @@ class _Patch:
     serial: int = 0  # when it was pushed: a batch groups the steps pushed after its mark
     scalars: Scalars | None = None
     baked: int = 0
+    name: str = ""  # what Edit > Undo calls it ("Stroke")
 
     @property
     def nbytes(self) -> int:
@@ -104,6 +105,7 @@ class _Rotate:
     turns: int
     nbytes: int = 0  # stores no voxels: undo is the inverse turn
     serial: int = 0
+    name: str = "Rotate"
 
 
 @dataclass
@@ -112,10 +114,11 @@ class _Replace:
     scalars: Scalars | None  # and its scalars
     nbytes: int  # what the replaced image held: fixed, as undo and redo swap images of other sizes in and out
     serial: int = 0
+    name: str = ""
 
     @classmethod
-    def of(cls, data: np.ndarray, scalars: Scalars | None) -> _Replace:
-        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0))
+    def of(cls, data: np.ndarray, scalars: Scalars | None, name: str) -> _Replace:
+        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0), name=name)
 
 
 @dataclass
@@ -123,6 +126,7 @@ class _Window:
     transfer: TransferFunction  # the scalars' transfer function not currently shown
     nbytes: int = 0  # the colours are made again from the scalars
     serial: int = 0
+    name: str = "Set Window"
 
 
 @dataclass
@@ -131,6 +135,7 @@ class _Group:
 
     steps: list
     serial: int = 0
+    name: str = ""
 
     @property
     def nbytes(self) -> int:
@@ -330,7 +335,7 @@ class Volume:
         z, y, x = self._voxel(x, y, z)
         colour = _colour(rgba)
         if not np.array_equal(self.data[z, y, x], colour):
-            self._patch(Box(x, y, z, x + 1, y + 1, z + 1), colour)
+            self._patch(Box(x, y, z, x + 1, y + 1, z + 1), colour, "Paint Voxel")
 
     def stroke(self, axis: str, index: int, size: int, rgba: Sequence[int], points: list[tuple[int, int]],
                round_brush: bool = True) -> Box | None:
@@ -361,7 +366,7 @@ class Volume:
             return None
         cover, u0, v0 = stamped
         region = plane[v0:v0 + cover.shape[0], u0:u0 + cover.shape[1]]
-        return self._paint_plane(axis, index, region, cover & (region != colour).any(-1), colour, u0, v0)
+        return self._paint_plane(axis, index, region, cover & (region != colour).any(-1), colour, u0, v0, "Stroke")
 
     def fill(self, axis: str, index: int, u: int, v: int, rgba: Sequence[int]) -> Box | None:
         """Flood the 4-connected region of the slice that has exactly the colour at (u, v)."""
@@ -375,7 +380,7 @@ class Volume:
         if np.array_equal(target, colour):
             return None
         labels, _ = ndimage.label((plane == target).all(-1))  # default structure: 4-connected
-        return self._paint_plane(axis, index, plane, labels == labels[v, u], colour, 0, 0)
+        return self._paint_plane(axis, index, plane, labels == labels[v, u], colour, 0, 0, "Fill")
 
     def smooth(self, box: Box | None = None) -> Box | None:
         """3x3x3 box filter over `box` (default: all), reading neighbours beyond it, edge-clamped at the border.
@@ -395,7 +400,7 @@ class Volume:
         before = self.data[changed.slices()].copy()
         for tile, mean in self._smoothed_tiles(changed, before):
             self.data[tile.slices()] = mean
-        return self._record(changed, before)
+        return self._record(changed, before, "Smooth")
 
     def rotate(self, axis: str, turns: int = 1) -> None:
         """Quarter turns about an axis, counter-clockwise looking from +axis towards the origin."""
@@ -406,18 +411,19 @@ class Volume:
             self._rotate(axis, turns)
             self._push(_Rotate(axis, turns))
 
-    def replace(self, data: np.ndarray) -> None:
-        """Swap in a whole new image (a loaded file) as one undo step."""
+    def replace(self, data: np.ndarray, name: str = "Replace Volume") -> None:
+        """Swap in a whole new image (a loaded file) as one undo step called `name`."""
         self._settle_preview()
         new = self._validated(data)
-        self._push(_Replace.of(self.data, self.scalars))
+        self._push(_Replace.of(self.data, self.scalars, name))
         self.data, self.scalars = new, None
         self._changed(None)
 
-    def replace_scalars(self, values: np.ndarray, transfer: TransferFunction | None = None) -> None:
-        """Swap in a scalar volume (a loaded 16-bit or float file) as one undo step, coloured through `transfer`
-        (by default the window from the values' percentiles, grey). The size is checked before anything is
-        allocated; the values are copied."""
+    def replace_scalars(self, values: np.ndarray, transfer: TransferFunction | None = None,
+                        name: str = "Replace Volume") -> None:
+        """Swap in a scalar volume (a loaded 16-bit or float file) as one undo step called `name`, coloured through
+        `transfer` (by default the window from the values' percentiles, grey). The size is checked before anything
+        is allocated; the values are copied."""
         self._settle_preview()
         d, h, w = check_values(values)
         _check_size(w, h, d, values.itemsize)
@@ -425,7 +431,7 @@ class Volume:
         scalars = Scalars(values, transfer or TransferFunction(*default_window(values)))
         data = np.empty(values.shape + (4,), np.uint8)
         colour(values, scalars.transfer, data)
-        self._push(_Replace.of(self.data, self.scalars))
+        self._push(_Replace.of(self.data, self.scalars, name))
         self.data, self.scalars = data, scalars
         self._changed(None)
 
@@ -474,21 +480,28 @@ class Volume:
         self._undo.append(step)
         return True
 
+    def undo_name(self) -> str | None:
+        """What the step undo would take back is called ("Stroke"); None: nothing to undo."""
+        return self._undo[-1].name if self._undo else None
+
+    def redo_name(self) -> str | None:
+        return self._redo[-1].name if self._redo else None
+
     @property
     def edits(self) -> int:
         """Undo steps pushed so far, ever: mark it before a batch of edits, then `group_since(mark)`."""
         return self._pushes
 
-    def group_since(self, mark: int) -> None:
-        """Fold the steps pushed since `edits` was `mark` into one, so one undo takes them all back.
-        Steps from before the mark stay apart, even if the batch undid and redid some of them."""
+    def group_since(self, mark: int, name: str = "Script") -> None:
+        """Fold the steps pushed since `edits` was `mark` into one called `name`, so one undo takes them
+        all back. Steps from before the mark stay apart, even if the batch undid and redid some of them."""
         steps = []
         while self._undo and self._undo[-1].serial > mark:
             steps.append(self._undo.pop())
         if len(steps) == 1:
             self._undo.append(steps[0])
         elif steps:
-            self._undo.append(_Group(steps[::-1], serial=steps[0].serial))
+            self._undo.append(_Group(steps[::-1], serial=steps[0].serial, name=name))
 
     # --- preview: an edit shown but kept out of the history ----------------------------------
 
@@ -629,7 +642,7 @@ class Volume:
         return np.pad(region, edges + [(0, 0)], mode="edge") if any(map(any, edges)) else region
 
     def _paint_plane(self, axis: str, index: int, region: np.ndarray, mask: np.ndarray,
-                     colour: np.ndarray, u0: int, v0: int) -> Box | None:
+                     colour: np.ndarray, u0: int, v0: int, name: str) -> Box | None:
         """Paint `mask` of a slice region whose corner is (u0, v0) as one step; returns the changed box."""
         hit = _bounds(mask)
         if hit is None:
@@ -638,7 +651,7 @@ class Volume:
         box = self._plane_box(axis, index, u0 + c, u0 + e, v0 + a, v0 + b)
         before = self.data[box.slices()].copy()
         region[a:b, c:e][mask[a:b, c:e]] = colour
-        return self._record(box, before)
+        return self._record(box, before, name)
 
     @staticmethod
     def _plane_box(axis: str, k: int, u0: int, u1: int, v0: int, v1: int) -> Box:
@@ -648,19 +661,19 @@ class Volume:
             return Box(u0, k, v0, u1, k + 1, v1)
         return Box(k, u0, v0, k + 1, u1, v1)
 
-    def _patch(self, box: Box, contents: np.ndarray) -> Box:
+    def _patch(self, box: Box, contents: np.ndarray, name: str) -> Box:
         """Write `contents` (broadcast) into `box` as one undo step."""
         view = self.data[box.slices()]
         before = view.copy()
         view[...] = contents
-        return self._record(box, before)
+        return self._record(box, before, name)
 
-    def _record(self, box: Box, before: np.ndarray) -> Box:
+    def _record(self, box: Box, before: np.ndarray, name: str) -> Box:
         if self._previewing:
             self._preview = _Patch(box, before)
             self._changed(box)
             return box
-        patch = _Patch(box, before)
+        patch = _Patch(box, before, name=name)
         if self.scalars is not None:  # the edit bakes the window in: its step keeps the scalars
             patch.scalars, patch.baked, self.scalars = self.scalars, self.scalars.nbytes, None
         self._push(patch)

@@ -31,6 +31,12 @@ class VolumeHistory:
     def redo(self) -> bool:
         return self._after(self.state.volume.redo())
 
+    def undo_name(self) -> str | None:
+        return self.state.volume.undo_name()
+
+    def redo_name(self) -> str | None:
+        return self.state.volume.redo_name()
+
     def _after(self, done: bool) -> bool:
         if done:
             self.state.clamp_slice()
@@ -44,6 +50,7 @@ class VolumeWorkspace(Workspace):
         self.volume = Volume(make(DEFAULT_SAMPLE))
         self.view = VolumeView()
         self.history = VolumeHistory(self)
+        self._document_digest = (None, -1, "")  # (the volume, its version, its digest)
 
     def clamp_slice(self) -> None:
         """After anything that may change the volume's shape, keep the edited slice inside it."""
@@ -57,6 +64,15 @@ class VolumeWorkspace(Workspace):
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.digest(), "volume.view": short_hash(self.view.key())}
+
+    def document_digest(self) -> str:
+        """The voxels' digest, hashed again only after they changed: the window asks after every command
+        (orbiting too), and a big volume takes a while to hash."""
+        volume, version, digest = self._document_digest
+        if volume is not self.volume or version != self.volume.version:
+            digest = self.volume.digest()
+            self._document_digest = (self.volume, self.volume.version, digest)
+        return digest
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a

@@ -14,15 +14,28 @@ from typing import Callable, ClassVar, Protocol
 class History(Protocol):
     def undo(self) -> bool: ...  # False: nothing to undo
     def redo(self) -> bool: ...
+    def undo_name(self) -> str | None: ...  # the step undo would take back ("Stroke"); None: nothing to undo
+    def redo_name(self) -> str | None: ...
 
 
 @dataclass(frozen=True)
 class SceneFiles:
     """How a workspace's scene goes to and from a file; its commands fill it in (they know the formats
-    and the file policy). `suffixes[0]` names a demo's snapshot of the scene."""
+    and the file policy). `suffixes[0]` names a demo's snapshot of the scene and its autosave.
+
+    `format`: the "format" its JSON files name, which tells them from other workspaces' JSON files (`open`).
+    `new`: puts an empty (or the default) scene in place (File > New, `scene.new`).
+    `replacing`: its own verbs that put another whole scene in place (samples, clear): the editor asks
+    before they drop unsaved changes, and the scene is untitled after them.
+    `verbs`: its own load and save verbs, if it has any besides scene.load and scene.save (the volume's
+    `load` and `save`): they name the scene's file as those do."""
     load: Callable[[str], None]
     save: Callable[[str], None]
     suffixes: tuple[str, ...]
+    format: str | None = None
+    new: Callable[[], None] | None = None
+    replacing: tuple[str, ...] = ()
+    verbs: tuple[str, str] | None = None
 
 
 class Workspace:
@@ -39,6 +52,11 @@ class Workspace:
     def digest(self) -> dict[str, str]:
         """Short hashes of the model and of the camera, by part name (the `digest` command prints them)."""
         raise NotImplementedError
+
+    def document_digest(self) -> str:
+        """A hash of what the scene file holds (not the camera, not the selection): the scene has unsaved
+        changes while it differs from the one at the last save or load, so undoing back clears them."""
+        return self.digest()[self.name]
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild this state from any other: a demo's opening lines. `snapshot()` saves the

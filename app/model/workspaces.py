@@ -21,4 +21,9 @@ def names() -> list[str]:
     return [w.name for w in WORKSPACES]
 
 
+def workspace_title(name: str) -> str:
+    """What people call the workspace ("2D lighting")."""
+    return next(w.title for w in WORKSPACES if w.name == name)
+
+
 DEFAULT_WORKSPACE = "snowflake"  # the editor opens on it

@@ -34,14 +34,15 @@ def editor_parser() -> argparse.ArgumentParser:
     p.add_argument("file", nargs="?", help="a .cfg, .lua or .demo to run after start-up, or a file to open")
     p.add_argument("--cmd", action="append", default=[], metavar="COMMAND",
                    help="console command to run at start (repeatable, in order, after FILE)")
-    p.add_argument("--size", default="1400x860", metavar="WxH", help="window size")
+    p.add_argument("--size", metavar="WxH", help="window size (default: as the last run left it)")
     p.add_argument("--screenshot", metavar="PNG", help="save a picture of the window once drawn, then quit")
     return p
 
 
 def startup_command(path: str) -> str:
-    """As Tex3Dtrace's first argument: a config runs after start-up, anything else is opened."""
-    verb = {".cfg": "exec", ".lua": "lua", ".demo": "play", ".json": "scene.load"}.get(Path(path).suffix, "load")
+    """As Tex3Dtrace's first argument: a config runs after start-up, anything else is opened in the workspace
+    its format belongs to."""
+    verb = {".cfg": "exec", ".lua": "lua", ".demo": "play"}.get(Path(path).suffix, "open")
     return f"{verb} {shlex.quote(path)}"
 
 
@@ -53,7 +54,8 @@ def run_editor(args: argparse.Namespace) -> int:
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("Shadelab")
     window = MainWindow()
-    window.resize(*(int(v) for v in args.size.lower().split("x")))
+    if args.size:
+        window.resize(*(int(v) for v in args.size.lower().split("x")))
     for line in ([startup_command(args.file)] if args.file else []) + args.cmd:
         window.run(line)
     window.show()
@@ -63,6 +65,7 @@ def run_editor(args: argparse.Namespace) -> int:
         def shoot() -> None:
             if window.viewport.settled() or time.monotonic() > deadline:
                 window.grab().save(args.screenshot)
+                window.editor.documents.confirm = None  # a picture run quits without asking to save
                 app.quit()
             else:
                 QTimer.singleShot(100, shoot)

@@ -14,6 +14,8 @@ TICK_MS = 33       # the clock's pace while the sky moves
 
 
 class CloudsTool(ViewportTool):
+    KEYS = "Drag to look around the sky; the wheel climbs or descends."
+
     def __init__(self, viewport, state, run) -> None:
         super().__init__(viewport, state, run)
         self._drag = None  # (start pixel, yaw, pitch)

@@ -39,6 +39,11 @@ def _segment_distance(p, a, b) -> float:
 
 
 class Lighting2DTool(ViewportTool):
+    KEYS = ("Click a light or hull to select it, drag it to move it; the round handle rotates, the square one scales, "
+            "a hull's vertex handles move vertices (double-click an edge to insert one, right-click one to delete it). "
+            "h draws a new hull point by point (Enter ends it, Escape drops it); Delete removes the selection. "
+            "Drag empty space to pan; the wheel zooms.")
+
     def __init__(self, viewport, state, run) -> None:
         super().__init__(viewport, state, run)
         self.drawing = False

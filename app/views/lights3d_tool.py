@@ -22,6 +22,9 @@ REMOVE_VERBS = {"object": "object.remove", "light": "light3d.remove"}
 
 
 class Lights3DTool(ViewportTool):
+    KEYS = ("Click an object or a light's marker to select it and drag a gizmo arrow to move it along that axis; "
+            "drag elsewhere to orbit, the wheel zooms; Delete removes the selection.")
+
     def __init__(self, viewport, state, run) -> None:
         super().__init__(viewport, state, run)
         # ("axis", kind, index, origin, axis, press pixel) or ("orbit", press pixel, yaw, pitch, is a left click)

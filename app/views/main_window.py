@@ -1,5 +1,6 @@
-"""The main window: the viewport in the middle, docks around it, a workspace switcher, frame stats. It
-knows no workspace by name: their tools and panels come from app/views/workspace_views.py."""
+"""The main window: the viewport in the middle, docks around it, a workspace switcher, menus, frame stats.
+It knows no workspace by name: their tools and panels come from app/views/workspace_views.py, their files
+from the workspace unit (app/views/documents.py)."""
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer
@@ -10,8 +11,12 @@ from app.console import files
 from app.editor import Editor
 from app.gl.workspace_renderer import RENDERERS
 from app.model.workspaces import WORKSPACES
+from app.views.autosave import AutosaveSession
 from app.views.bench_dock import BenchDock
 from app.views.console_widget import ConsoleWidget
+from app.views.documents import DocumentsUI
+from app.views.layout_settings import Layout
+from app.views.menus import Menus
 from app.views.status_bar import StatusParts
 from app.views.viewport import Viewport
 from app.views.weak_callback import weak_callback
@@ -55,6 +60,9 @@ class MainWindow(QMainWindow):
         self.addAction(toggle)
         self.console_widget.input.closed.connect(self.toggle_console)
         self.viewport.key_command.connect(self.run_bind)
+        self.documents_ui = DocumentsUI(self)
+        self.menus = Menus(self)
+        self.autosave = AutosaveSession(self)
 
         # Demo playback and `wait` advance on a timer that runs only while they have work.
         self.ticker = QTimer(self, interval=10, timeout=self._tick)
@@ -69,6 +77,9 @@ class MainWindow(QMainWindow):
         self.status_parts = StatusParts(self.statusBar(), self.viewport, self.editor.console)
         self.refresh()
         self.status_parts.sync()
+        self.layout_settings = Layout(self)  # the layout built above is the default Reset Layout puts back
+        self.layout_settings.restore()
+        QTimer.singleShot(0, weak_callback(self.autosave, "offer_recovery"))  # once the window is up
 
     def _tick(self) -> None:
         self.editor.demos.update()
@@ -78,7 +89,14 @@ class MainWindow(QMainWindow):
             self.ticker.stop()
 
     def closeEvent(self, event) -> None:
-        """Quake writes config.cfg on the way out: archived cvars, binds and aliases survive."""
+        """Unsaved scenes are saved or discarded first (or the window stays); the layout is kept, and Quake
+        writes config.cfg on the way out: archived cvars, binds and aliases survive."""
+        if not self.documents_ui.may_close():
+            event.ignore()
+            return
+        self.layout_settings.save()
+        self.autosave.end()
+        self.editor.documents.confirm = None  # the editor may outlive the window: no one left to ask
         self.editor.demos.stop_all()
         self.editor.console.execute("writeconfig", echo=False)
         super().closeEvent(event)
@@ -123,6 +141,8 @@ class MainWindow(QMainWindow):
     def refresh(self) -> None:
         """Bring widgets in line with the model and redraw only if something drawn changed."""
         self.console_widget.sync()
+        self.documents_ui.sync()
+        self.menus.sync()
         if (self.editor.demos.playing or self.editor.console.waiting) and not self.ticker.isActive():
             self.ticker.start()
         version = self.editor.version()
@@ -143,9 +163,17 @@ class MainWindow(QMainWindow):
         self.workspace_actions[name].setChecked(True)
         self.viewport.tool = self.tools.get(name)
         self.panels.setCurrentWidget(self.workspace_panels.get(name, self.placeholder))
+        self._fit_editor_dock(name)
+        self.bench.show_workspace(name)
+
+    def _fit_editor_dock(self, name: str) -> None:
         width = VIEWS[name].dock_width if name in VIEWS else DEFAULT_DOCK_WIDTH
         self.resizeDocks([self.docks["editor"]], [width], Qt.Orientation.Horizontal)
-        self.bench.show_workspace(name)
+
+    def reset_layout(self) -> None:
+        """View > Reset Layout: the docks and toolbar where the window first put them, every one shown."""
+        self.layout_settings.reset()
+        self._fit_editor_dock(self.editor.workspace)
 
     def _prepare(self, name: str) -> None:
         """What the workspace's renderer makes once (noise textures), with a progress bar while something is

@@ -14,6 +14,9 @@ ZOOM_STEP = 1.15
 
 
 class SnowflakeTool(ViewportTool):
+    KEYS = ("Click to add a flake, drag one to move it, right-click one to remove it; right or middle drag pans, "
+            "the wheel zooms.")
+
     def __init__(self, viewport, state, run) -> None:
         super().__init__(viewport, state, run)
         self._drag: int | None = None  # flake being moved

@@ -8,6 +8,8 @@ class ViewportTool:
     """Override what the workspace handles; the rest does nothing. `key` returns True when it used the key
     (else the key's `bind` runs)."""
 
+    KEYS = ""  # the mouse and keys it handles, in words (Help > Keys)
+
     def __init__(self, viewport, state, run) -> None:
         self.viewport = viewport
         self.state = state  # the workspace's (app/model/*_workspace.py)

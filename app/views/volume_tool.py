@@ -15,6 +15,10 @@ DEGREES_PER_PIXEL = 0.4
 
 
 class VolumeTool(ViewportTool):
+    KEYS = ("Drag to orbit the volume, the wheel moves closer or away. Paint in the slice painter of the left "
+            "dock: q/e previous and next slice, 1-4 brush size, c brush colour, u/r undo and redo, a/d/w/s pan, "
+            "h/j shrink and grow the drawing.")
+
     def __init__(self, viewport, state, run) -> None:
         super().__init__(viewport, state, run)
         self.picker_axis: str | None = None  # set while the slice picker is open

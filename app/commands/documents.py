@@ -1,0 +1,157 @@
+"""Each workspace's document: the file its scene came from or went to, and whether the scene changed since.
+
+"Changed" compares the workspace's document_digest() with the one at the last save or load, so undoing back to
+the saved state clears it. Before a line the user gave (typed, a menu, a panel, a key) drops unsaved changes,
+`confirm` asks (the window sets it: save, discard or cancel); a headless editor never asks. Autosaves go into
+a folder with a manifest (app/io/autosave.py) that says which file each scene was edited from."""
+from __future__ import annotations
+
+import os
+import shlex
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from app.console import files
+from app.console.console import Console
+from app.console.registry import CommandError, Reported
+from app.io import autosave as autosave_file
+from app.io.autosave import Autosaved
+from app.io.json_file import JSONFileError, format_name
+from app.model.workspace import Workspace, Workspaces
+
+
+@dataclass(frozen=True)
+class Document:
+    path: str | None = None  # None: untitled
+    saved: str | None = None  # the document digest when last saved or loaded; None: never (a recovered scene)
+
+
+class Documents:
+    def __init__(self, console: Console, workspaces: Workspaces) -> None:
+        self.console, self.workspaces = console, workspaces
+        self._documents = {state.name: Document() for state in workspaces}
+        self._autosaved: dict[str, str] = {}  # workspace -> the document digest its autosave holds
+        # (workspace, the line that would drop its changes) -> go on; the window's save/discard/cancel dialog
+        self.confirm: Callable[[Workspace, str], bool] | None = None
+        self.path_listeners: list[Callable[[str], None]] = []  # every file a scene is opened from or saved to
+        self.changes = 0  # counts renamings: a window retitles when it moves
+
+    def path(self, state: Workspace) -> str | None:
+        return self._documents[state.name].path
+
+    def modified(self, state: Workspace) -> bool:
+        return state.files is not None and self._documents[state.name].saved != state.document_digest()
+
+    def named(self, state: Workspace, path: str | None, recovered: bool = False) -> None:
+        """The scene is now the file `path` (None: untitled), as saved, unless it was `recovered` from an autosave."""
+        path = None if path is None else os.path.abspath(path)
+        self._documents[state.name] = Document(path, None if recovered else state.document_digest())
+        self.changes += 1
+        for listener in self.path_listeners if path is not None else ():
+            listener(path)
+
+    def forget_changes(self) -> None:
+        """Every scene as it stands counts as saved (the start-up scenes; a window closed by its owner)."""
+        for state in self.workspaces:
+            self._documents[state.name] = Document(self.path(state), state.document_digest())
+        self.changes += 1
+
+    def may_replace(self, state: Workspace, line: str) -> None:
+        """Before `line` puts another scene in `state`: if the user gave it and the scene has unsaved changes,
+        ask; a cancel stops the command (Reported). Scripts, demos and configs are never asked."""
+        users = all(origin.kind == "bind" for origin in self.console.origins)
+        if self.confirm is None or not users or not self.modified(state):
+            return
+        if not self.confirm(state, line):
+            self.console.print(f"{line}: cancelled; the unsaved changes are kept")
+            raise Reported(line)
+
+    def owner(self, path: str) -> Workspace:
+        """The workspace whose files `path` is: by its suffix, and for a suffix several share (.json) by the
+        "format" the file names; else CommandError."""
+        suffix = Path(path).suffix.lower()
+        states = [s for s in self.workspaces if s.files is not None and suffix in s.files.suffixes]
+        if len(states) > 1:
+            try:
+                name = format_name(path)
+            except JSONFileError as exc:
+                raise CommandError(str(exc)) from None
+            states = [s for s in states if s.files.format is not None and s.files.format == name]
+            if not states:
+                raise CommandError(f"{path} is no scene file of any workspace (its format is {name!r})")
+        if not states:
+            raise CommandError(f"no workspace opens {suffix or 'files without a suffix'} "
+                               f"(they open {', '.join(self.suffixes())})")
+        return states[0]
+
+    def suffixes(self) -> tuple[str, ...]:
+        """Every suffix some workspace's files have."""
+        return tuple(sorted({x for state in self.workspaces if state.files is not None for x in state.files.suffixes}))
+
+    def track(self) -> None:
+        """Each workspace's own verbs that replace its scene (SceneFiles.replacing) ask first and leave it
+        untitled; its own load and save verbs (SceneFiles.verbs) name the file as scene.load and scene.save do.
+        Their handlers are wrapped here, once every workspace has registered them."""
+        for state in self.workspaces:
+            if state.files is None:
+                continue
+            for verb in state.files.replacing:
+                self._wrap(state, verb, ask=True, path=lambda args: None)
+            if state.files.verbs is not None:
+                load, save = state.files.verbs
+                self._wrap(state, load, ask=True, path=lambda args: args[0])
+                self._wrap(state, save, ask=False, path=lambda args: str(files.writable(self.console, args[0])))
+
+    def _wrap(self, state: Workspace, verb: str, ask: bool, path: Callable[[tuple], str | None]) -> None:
+        command = self.console.registry.resolve(f"{state.name}:{verb}", None)
+        handler = command.handler
+
+        def tracked(*args) -> None:
+            if ask:
+                self.may_replace(state, shlex.join([verb, *map(str, args)]))
+            handler(*args)
+            self.named(state, path(args))
+
+        command.handler = tracked
+
+    # ---- autosave -----------------------------------------------------------------------------------
+
+    def autosave(self, folder: Path) -> int:
+        """Save each scene with unsaved changes into `folder` (those unchanged since the last autosave stay as
+        they are) and list them in its manifest; a scene saved since loses its autosave. Returns how many
+        scenes the folder holds."""
+        folder.mkdir(parents=True, exist_ok=True)
+        kept = []
+        for state in self.workspaces:
+            if state.files is None:
+                continue
+            file = folder / f"{state.name}{state.files.suffixes[0]}"
+            if not self.modified(state):
+                file.unlink(missing_ok=True)
+                self._autosaved.pop(state.name, None)
+                continue
+            digest = state.document_digest()
+            if self._autosaved.get(state.name) != digest or not file.is_file():
+                state.files.save(str(file))
+                self._autosaved[state.name] = digest
+            kept.append(Autosaved(state.name, file, self.path(state)))
+        autosave_file.write(folder, kept)
+        return len(kept)
+
+    def recoverable(self, folder: Path) -> list[Autosaved]:
+        """The scenes an autosave folder holds that are newer than the files they were edited from (all the
+        untitled ones), for workspaces this editor has; none if its manifest cannot be read."""
+        try:
+            scenes = autosave_file.read(folder)
+        except autosave_file.AutosaveError:
+            return []
+        found = []
+        for scene in scenes:
+            if scene.workspace not in self.workspaces or not scene.file.is_file():
+                continue
+            original = Path(scene.original) if scene.original else None
+            if original is not None and original.is_file() and original.stat().st_mtime >= scene.file.stat().st_mtime:
+                continue
+            found.append(scene)
+        return found

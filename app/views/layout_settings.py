@@ -1,0 +1,54 @@
+"""What the window keeps between runs: its geometry, its docks' places and sizes, and the recent files, in an
+ini file in the user's config folder ($SHADELAB_CONFIG_DIR keeps tests apart from the user's own)."""
+from __future__ import annotations
+
+from PySide6.QtCore import QSettings
+
+from app.console import files
+
+RECENT_LIMIT = 10
+
+
+def settings() -> QSettings:
+    return QSettings(str(files.config_dir() / "window.ini"), QSettings.Format.IniFormat)
+
+
+class Layout:
+    """The window's geometry and dock layout: restored at start, saved on close. The layout the window was
+    built with is the default that Reset Layout puts back."""
+
+    def __init__(self, window) -> None:
+        self.window = window
+        self.default = window.saveState()
+
+    def restore(self) -> None:
+        stored = settings()
+        geometry, state = stored.value("window/geometry"), stored.value("window/state")
+        if geometry is not None:
+            self.window.restoreGeometry(geometry)
+        if state is not None:
+            self.window.restoreState(state)
+
+    def save(self) -> None:
+        stored = settings()
+        stored.setValue("window/geometry", self.window.saveGeometry())
+        stored.setValue("window/state", self.window.saveState())
+
+    def reset(self) -> None:
+        self.window.restoreState(self.default)
+
+
+class RecentFiles:
+    """The files last opened or saved, newest first, kept in the settings."""
+
+    KEY = "recent/files"
+
+    def paths(self) -> list[str]:
+        return settings().value(self.KEY, [], type=list)
+
+    def add(self, path: str) -> None:
+        paths = [path, *(p for p in self.paths() if p != path)]
+        settings().setValue(self.KEY, paths[:RECENT_LIMIT])
+
+    def clear(self) -> None:
+        settings().setValue(self.KEY, [])

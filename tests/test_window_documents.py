@@ -1,0 +1,216 @@
+"""Documents in the window under Xvfb: the title names the file and marks unsaved changes; closing, a sample,
+Open or New over unsaved changes asks to save, discard or cancel; File > Open and Save As dialogs are
+filtered by the workspace's formats; `shadelab FILE` opens the file in its workspace; and a crashed session's
+autosave is offered back at the next start."""
+import os
+import subprocess
+import sys
+import textwrap
+
+from PySide6.QtCore import QPoint, Qt
+from PySide6.QtWidgets import QMessageBox
+
+from app.console.demo import VirtualClock
+from app.editor import Editor
+from app.io import snowflake_scene
+from app.resources import SCENES
+from app.views.application import startup_command
+from app.views.main_window import MainWindow
+from dialogs import answer, said
+
+Button = QMessageBox.StandardButton
+STAR = SCENES / "f_concave_star.json"
+
+
+def shown_title(window):
+    """The title as the window manager gets it ([*] made a star, or nothing)."""
+    return window.windowHandle().title()
+
+
+def saved_flakes(tmp_path, name="flakes.json"):
+    """A snowflake file with two flakes, written by the editor itself."""
+    editor = Editor(clock=VirtualClock(), configs=False)
+    assert editor.execute("snow.clear") and editor.execute("snow.add 0 0") and editor.execute("snow.add 1 1 0.2")
+    assert editor.execute(f"scene.save {tmp_path / name}")
+    return tmp_path / name
+
+
+def test_the_title_names_the_file_and_marks_unsaved_changes(make_window, qtbot, tmp_path):
+    window = make_window()
+    assert shown_title(window) == "untitled — Snowflake — Shadelab"
+    path = saved_flakes(tmp_path)
+    assert window.run(f"open {path}")
+    assert window.windowTitle() == "flakes.json[*] — Snowflake — Shadelab" and not window.isWindowModified()
+    vp = window.viewport
+    qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=QPoint(vp.width() // 4, vp.height() // 4))  # a new flake
+    assert len(window.editor.current.scene.flakes) == 3
+    assert shown_title(window) == "flakes.json* — Snowflake — Shadelab"
+    qtbot.keyClick(window.viewport, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert shown_title(window) == "flakes.json — Snowflake — Shadelab"  # undone back to the file: clean
+    window.run("workspace volume")
+    assert shown_title(window) == "untitled — Volume — Shadelab"
+
+
+def test_closing_with_unsaved_changes_asks_save_discard_or_cancel(make_window, qtbot, tmp_path):
+    window = make_window(asks=True)
+    window.run("snow.add 0.4 0.4")
+    seen = answer(Button.Cancel)
+    window.close()
+    assert window.isVisible()  # cancelled: still open, nothing lost
+    assert "The Snowflake scene untitled has unsaved changes." in said(seen)[0]
+    assert "Save them before closing Shadelab?" in said(seen)[0]
+    target = tmp_path / "kept.json"
+    seen = answer(Button.Save, target)  # untitled: Save goes on to Save As
+    window.close()
+    qtbot.waitUntil(lambda: not window.isVisible())
+    assert said(seen)[1][0] == "Snowflake files (*.json)"
+    flakes, _level = snowflake_scene.load(target)
+    assert (0.4, 0.4) in [(f.x, f.y) for f in flakes]
+
+
+def test_discard_closes_without_writing(make_window, qtbot, tmp_path):
+    window = make_window(asks=True)
+    path = saved_flakes(tmp_path)
+    window.run(f"open {path}")
+    before = path.read_bytes()
+    window.run("snow.clear")  # replacing: asks, but nothing is unsaved yet
+    window.run("snow.add 0 0")
+    answer(Button.Discard)
+    window.close()
+    qtbot.waitUntil(lambda: not window.isVisible())
+    assert path.read_bytes() == before
+
+
+def test_a_sample_over_unsaved_changes_asks_first(make_window, qtbot):
+    window = make_window(asks=True)
+    window.run("workspace lighting2d")
+    window.run("ambient 0.5 0.1 0.1")
+    panel = window.workspace_panels["lighting2d"].widget()
+    before = window.editor.digest()
+    seen = answer(Button.Cancel)
+    panel.sample.activated.emit(1)  # the user picks a sample in the panel
+    qtbot.waitUntil(lambda: len(seen) == 1)
+    assert window.editor.digest() == before
+    assert "before lighting.sample a_penumbra_transition?" in said(seen)[0]
+    answer(Button.Discard)
+    panel.sample.activated.emit(1)
+    assert window.editor.digest()["lighting2d"] != before["lighting2d"]
+    assert not window.isWindowModified() and shown_title(window) == "untitled — 2D lighting — Shadelab"
+
+
+def test_a_key_that_loads_a_sample_saves_to_the_file_when_asked(make_window, qtbot, tmp_path):
+    """Keys run as binds, confined to the user folder; the file the user chose to save to is theirs."""
+    window = make_window(asks=True)
+    window.run("workspace volume")
+    window.run(f"save {tmp_path / 'mine.r3'}")
+    window.run("voxel 1 2 3 255 0 0 255")
+    painted = window.editor.digest()["volume"]
+    window.viewport.setFocus()
+    seen = answer(Button.Save)
+    qtbot.keyClick(window.viewport, Qt.Key.Key_9)  # volume:9 is `sample cornell_box`
+    assert "The Volume scene mine.r3 has unsaved changes." in said(seen)[0]
+    assert window.editor.current.volume.size == (64, 64, 64) and window.editor.digest()["volume"] != painted
+    fresh = Editor(clock=VirtualClock(), configs=False)
+    assert fresh.execute(f"open {tmp_path / 'mine.r3'}")
+    assert fresh.digest()["volume"] == painted
+
+
+def test_file_open_is_filtered_by_the_workspace_and_opens_in_the_files_workspace(make_window, qtbot, tmp_path):
+    window = make_window()
+    window.run("workspace volume")
+    window.run(f"save {tmp_path / 'v.r3'}")
+    window.run("workspace lighting2d")
+    seen = answer(tmp_path / "v.r3")
+    window.menus.menus["file"].actions()[1].trigger()  # Open...
+    filters = said(seen)[0]
+    assert filters[0] == "2D lighting files (*.json)" and filters[1].startswith("Every Shadelab file (*.bmp")
+    assert "Volume files (*.r3 " in filters[2] and filters[-1] == "All files (*)"
+    assert window.editor.workspace == "volume" and window.workspace_actions["volume"].isChecked()
+    assert shown_title(window) == "v.r3 — Volume — Shadelab"
+    window.run(f"open {STAR}")
+    recent = window.menus.recent_menu
+    recent.aboutToShow.emit()
+    assert [a.text() for a in recent.actions()[:2]] == [str(STAR), str(tmp_path / "v.r3")]
+    recent.actions()[1].trigger()
+    assert window.editor.workspace == "volume"
+    assert [line.text for line in window.editor.console.log if line.level == "input"][-1] == \
+        f"] open {tmp_path / 'v.r3'}"
+
+
+def test_file_new_and_save(make_window, qtbot, tmp_path):
+    window = make_window()
+    window.run("workspace lights3d")
+    file = window.menus.menus["file"]
+    seen = answer(tmp_path / "lights")  # Save on an untitled scene asks where; the suffix comes from the format
+    window.menus.save.trigger()
+    assert said(seen)[0] == ["3D lights files (*.json)"]
+    assert (tmp_path / "lights.json").is_file() and shown_title(window) == "lights.json — 3D lights — Shadelab"
+    window.run("light3d.add point")
+    window.menus.save.trigger()  # to its file, no dialog
+    assert not window.isWindowModified()
+    file.actions()[0].trigger()  # New: the default scene, untitled
+    assert shown_title(window) == "untitled — 3D lights — Shadelab"
+    assert window.editor.current.history.undo_name() == "Reset Scene"
+
+
+def test_shadelab_with_a_file_opens_it_in_its_workspace(tmp_path):
+    """`shadelab scene.json` with a 2D lighting scene and `shadelab v.r3` each end in the file's workspace."""
+    assert startup_command(str(STAR)) == f"open {STAR}" and startup_command("x.lua") == "lua x.lua"
+    editor = Editor(clock=VirtualClock(), configs=False)
+    assert editor.execute("workspace volume") and editor.execute(f"save {tmp_path / 'v.r3'}")
+    for path, workspace in ((STAR, "lighting2d"), (tmp_path / "v.r3", "volume")):
+        log = tmp_path / f"{workspace}.log"
+        run = subprocess.run([sys.executable, "-m", "app", str(path), "--cmd", "workspace", "--cmd",
+                              f"condump {log}", "--size", "640x480", "--screenshot", str(tmp_path / "x.png")],
+                             capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONPATH": os.getcwd()})
+        assert run.returncode == 0, run.stderr
+        text = log.read_text()
+        assert f"workspace is {workspace}" in text and "is not a shadelab" not in text
+
+
+CRASHING_SESSION = """
+    import os, sys
+    from PySide6.QtWidgets import QApplication
+    from app.views.application import set_surface_format
+    set_surface_format()
+    app = QApplication(sys.argv[:1])
+    from app.views.main_window import MainWindow
+    window = MainWindow()
+    window.run("open {path}")
+    window.run("snow.add 0.25 -0.5 0.125")
+    assert window.autosave.save() == 1
+    print(window.editor.digest()["snowflake"], flush=True)
+    os._exit(3)  # a crash: no close, no clean-up
+"""
+
+
+def test_a_crashed_sessions_autosave_is_offered_back(qtbot, tmp_path, monkeypatch):
+    monkeypatch.setenv("SHADELAB_CACHE_DIR", str(tmp_path / "cache"))
+    path = saved_flakes(tmp_path)
+    crash = subprocess.run([sys.executable, "-c", textwrap.dedent(CRASHING_SESSION.format(path=path))],
+                           capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONPATH": os.getcwd()})
+    assert crash.returncode == 3, crash.stderr
+    autosaved = crash.stdout.split()[-1]
+    sessions = list((tmp_path / "cache" / "autosave").iterdir())
+    assert len(sessions) == 1 and (sessions[0] / "snowflake.json").is_file()
+    seen = answer(Button.Yes)
+    window = MainWindow()  # the offer comes once it is up, whether or not it is active yet
+    qtbot.addWidget(window, before_close_func=lambda w: setattr(w.editor.documents, "confirm", None))
+    window.show()
+    qtbot.waitUntil(lambda: len(seen) == 1)
+    assert "did not exit cleanly" in said(seen)[0] and "Snowflake: flakes.json" in said(seen)[0]
+    assert window.editor.digest()["snowflake"] == autosaved
+    assert shown_title(window) == "flakes.json* — Snowflake — Shadelab"  # recovered work is unsaved
+    assert [p.name for p in (tmp_path / "cache" / "autosave").iterdir()] == [window.autosave.folder.name]
+
+
+def test_a_running_sessions_autosave_is_left_alone(make_window, tmp_path, monkeypatch):
+    monkeypatch.setenv("SHADELAB_CACHE_DIR", str(tmp_path / "cache"))
+    first = make_window()
+    first.run("snow.add 0.5 0.5")
+    assert first.autosave.save() == 1
+    second = make_window()
+    assert second.autosave.crashed() == []  # the first one's lock is held
+    first.close()
+    assert not first.autosave.folder.exists()  # a clean exit leaves nothing to recover
+    assert second.autosave.folder.is_dir()
