@@ -62,7 +62,7 @@ def test_unsaved_comes_from_the_model_so_undo_back_clears_it(editor, tmp_path):
     assert editor.execute("snow.add 0.5 0.5")
     assert current(editor) == (None, True)
     assert not editor.execute("scene.save")
-    assert "the scene is untitled" in errors(editor)[-1]
+    assert "the scene is untitled or a shipped sample" in errors(editor)[-1]
     assert editor.execute("scene.save flakes.json")
     assert current(editor) == (str(tmp_path / "flakes.json"), False)
     assert editor.execute("snow.move 0 0.1 0.1") and editor.execute("snow.level 3")
@@ -74,6 +74,17 @@ def test_unsaved_comes_from_the_model_so_undo_back_clears_it(editor, tmp_path):
     assert current(editor) == (str(tmp_path / "flakes.json"), False)
     assert editor.execute("snow.view 0 0 9")  # the view is not in the file
     assert not current(editor)[1]
+
+
+def test_a_shipped_sample_opened_and_edited_is_never_saved_over(editor, tmp_path):
+    sample = SCENES / "f_concave_star.json"
+    shipped = sample.read_bytes()
+    assert editor.execute(f"open {sample}") and editor.execute("light.add point 40 60")
+    assert current(editor) == (str(sample), True)  # still named for the title
+    assert not editor.execute("scene.save")
+    assert "a shipped sample: give the file to save it to" in errors(editor)[-1]
+    assert sample.read_bytes() == shipped
+    assert editor.execute("scene.save mine.json") and current(editor) == (str(tmp_path / "mine.json"), False)
 
 
 def test_clouds_and_lights3d_count_what_their_files_hold(editor):

@@ -95,9 +95,9 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
                  "file it was opened from or last saved to", recorded=False)
     def scene_save(path: str | None = None) -> None:
         save = scene_files().save
-        path = path or documents.path(workspaces.current)
+        path = path or documents.save_path(workspaces.current)
         if path is None:
-            raise CommandError("the scene is untitled: give the file to save it to")
+            raise CommandError("the scene is untitled or a shipped sample: give the file to save it to")
         target = files.writable(console, path)
         try:
             save(target)

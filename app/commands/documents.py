@@ -19,6 +19,7 @@ from app.io import autosave as autosave_file
 from app.io.autosave import Autosaved
 from app.io.json_file import JSONFileError, format_name
 from app.model.workspace import Workspace, Workspaces
+from app.resources import RESOURCES
 
 
 @dataclass(frozen=True)
@@ -39,6 +40,12 @@ class Documents:
 
     def path(self, state: Workspace) -> str | None:
         return self._documents[state.name].path
+
+    def save_path(self, state: Workspace) -> str | None:
+        """Where a plain Save writes: the scene's file, unless it is untitled or one of the shipped resources
+        (a sample opened and edited is saved as a new file, never over the sample)."""
+        path = self.path(state)
+        return None if path is None or Path(path).is_relative_to(RESOURCES) else path
 
     def modified(self, state: Workspace) -> bool:
         return state.files is not None and self._documents[state.name].saved != state.document_digest()

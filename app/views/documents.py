@@ -108,7 +108,7 @@ class DocumentsUI(QObject):
 
     def save(self) -> bool:
         """File > Save: to the scene's file, or to one chosen in a dialog if it is untitled. True: saved."""
-        if self.documents.path(self.editor.current) is None:
+        if self.documents.save_path(self.editor.current) is None:
             return self.save_as()
         return self.window.run("scene.save")
 
