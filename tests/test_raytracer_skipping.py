@@ -12,7 +12,7 @@ from app.model.volume_view import VolumeView
 from app.resources import SHADERS
 from tests.sparse_volumes import KINDS, random_camera, random_edit, random_steps, sparse_volume
 
-SIZE = (32, 32)
+SIZE = (64, 64)
 TOLERANCE = 1 / 255 + 1e-9
 
 
@@ -58,20 +58,19 @@ def difference(renders, volume, view, steps, with_f8: bool) -> float:
 
 def test_skipping_leaves_random_sparse_scenes_unchanged(renders):
     """Isolated voxels, 1-voxel lines and planes at random angles, thin shells and 0.1..5 % noise, random RGBA;
-    120 random cameras (inside the box too) at random cl_steps 39..241 and cl_shadowSteps."""
+    120 random cameras (inside the box too) at random cl_steps 39..241 and cl_shadowSteps. Enough pairs and
+    pixels that the old accumulated stepping (t += dt) failed here, with this seed and each of 6 others tried."""
     rng = np.random.default_rng(1301)
-    worst, pairs, plain, skipped = 0.0, 0, 0.0, 0.0
+    worst, plain, skipped = 0.0, 0.0, 0.0
     for v in range(12):
-        shape = tuple(int(s) for s in rng.integers(6, 41, 3))
+        shape = tuple(int(s) for s in rng.integers(8, 65, 3))
         volume = Volume(sparse_volume(rng, KINDS[v % len(KINDS)], shape))
         for c in range(10):
             view, steps = VolumeView(camera=random_camera(rng)), random_steps(rng)
             worst = max(worst, difference(renders, volume, view, steps, c % 3 == 0))
-            pairs += 1
             if c == 0:  # the skipping really happens: fewer samples for the same picture
                 plain += renders.samples(volume, view, mode=5, **steps)
                 skipped += renders.samples(volume, view, mode=7, **steps)
-    assert pairs >= 100
     assert worst <= TOLERANCE
     assert skipped < 0.8 * plain
 
@@ -79,18 +78,17 @@ def test_skipping_leaves_random_sparse_scenes_unchanged(renders):
 def test_skipping_after_edits_with_the_clamped_field(renders, tracer):
     """Strokes and erasures only clamp the distance field (refine() has not run): still the same picture."""
     rng = np.random.default_rng(1302)
-    worst, pairs, clamped = 0.0, 0, 0
+    worst, clamped = 0.0, 0
     for v in range(6):
-        shape = tuple(int(s) for s in rng.integers(12, 41, 3))
+        shape = tuple(int(s) for s in rng.integers(12, 49, 3))
         volume = Volume(sparse_volume(rng, KINDS[v % len(KINDS)], shape))
         renders.image(volume, VolumeView(), mode=7)  # the exact field, before any edit
-        for _round in range(6):
+        for r in range(6):
             for _edit in range(int(rng.integers(1, 4))):
                 random_edit(rng, volume)
             view = VolumeView(camera=random_camera(rng))
-            worst = max(worst, difference(renders, volume, view, random_steps(rng), _round % 3 == 0))
-            pairs += 1
+            worst = max(worst, difference(renders, volume, view, random_steps(rng), r % 3 == 0))
             clamped += tracer.distance.stale  # the clamped field, not a rebuild
-    assert pairs == 36 and worst <= TOLERANCE
-    assert clamped >= 30
+    assert worst <= TOLERANCE
+    assert clamped >= 30  # of the 36 pictures
     assert tracer.distance.refine() and not tracer.distance.stale

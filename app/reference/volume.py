@@ -64,15 +64,13 @@ def _march(scene: Scene, a: np.ndarray, b: np.ndarray, steps_per_unit: float, fi
 
 def _first_hit(scene: Scene, entry: np.ndarray, pos: np.ndarray, valid: np.ndarray, nearest: bool = False):
     """The first sample over the threshold, then bisected against the sample before it (as the GPU).
-    Returns (hit, point, colour, past): `past` is the first step past the bisected point (the hit's own
-    sample when bisection moved the point before it)."""
+    Returns (hit, point, colour, index): the bisected point never lies past the sample at step `index`."""
     s = scene.sample(pos, nearest)
     over = (scene.intensity(s) > rm.THRESHOLD) & valid
     hit = over.any(-1)
     index = over.argmax(-1)
     rows = np.arange(len(pos))
     t, colour = pos[rows, index], s[rows, index]
-    moved = np.zeros(len(pos), bool)
     if not nearest and hit.any():
         lo = np.where((index > 0)[:, None], pos[rows, np.maximum(index - 1, 0)], entry)
         hi = t.copy()
@@ -83,9 +81,8 @@ def _first_hit(scene: Scene, entry: np.ndarray, pos: np.ndarray, valid: np.ndarr
             hi = np.where(inside[:, None], mid, hi)
             colour = np.where(inside[:, None], m, colour)
             lo = np.where(inside[:, None], lo, mid)
-            moved |= inside
         t = hi
-    return hit, t, colour, np.where(moved, index, index + 1)
+    return hit, t, colour, index
 
 
 def _normal(scene: Scene, t: np.ndarray, view_dir: np.ndarray) -> np.ndarray:
@@ -180,7 +177,7 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
     pos, valid = _march(scene, a, b, steps)
     if mode.kind == "translucent":
         return _translucent(scene, pos, valid, background)
-    hit, t, s, past = _first_hit(scene, a, pos, valid)
+    hit, t, s, index = _first_hit(scene, a, pos, valid)
     out = np.tile(background, (len(a), 1))
     if mode.kind == "pure":
         out[hit] = s[hit, :3]
@@ -192,8 +189,8 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
         return out
     if hit.any():
         shade = _phong(scene, t[hit], s[hit], d[hit], mode, lights, steps, shadow_steps, shadows=True)
-        if mode.translucency:  # the surface's alpha over the mean of what lies behind it
-            behind_pos, behind_valid = pos[hit], valid[hit] & (np.arange(pos.shape[1])[None, :] >= past[hit, None])
+        if mode.translucency:  # the surface's alpha over the mean of what lies behind it, its own sample on
+            behind_pos, behind_valid = pos[hit], valid[hit] & (np.arange(pos.shape[1])[None, :] >= index[hit, None])
             empty = ~behind_valid.any(-1)
             behind_valid[empty, -1] = True  # nothing behind: the mean of one empty sample
             behind = _translucent(scene, behind_pos, behind_valid, background)
