@@ -63,7 +63,8 @@ def _march(scene: Scene, a: np.ndarray, b: np.ndarray, steps_per_unit: float, fi
 
 
 def _first_hit(scene: Scene, entry: np.ndarray, pos: np.ndarray, valid: np.ndarray, nearest: bool = False):
-    """The first sample over the threshold, then bisected against the sample before it (as the GPU)."""
+    """The first sample over the threshold, then bisected against the sample before it (as the GPU).
+    Returns (hit, point, colour, index): the bisected point never lies past the sample at step `index`."""
     s = scene.sample(pos, nearest)
     over = (scene.intensity(s) > rm.THRESHOLD) & valid
     hit = over.any(-1)
@@ -81,7 +82,7 @@ def _first_hit(scene: Scene, entry: np.ndarray, pos: np.ndarray, valid: np.ndarr
             colour = np.where(inside[:, None], m, colour)
             lo = np.where(inside[:, None], lo, mid)
         t = hi
-    return hit, t, colour, s, over, index
+    return hit, t, colour, index
 
 
 def _normal(scene: Scene, t: np.ndarray, view_dir: np.ndarray) -> np.ndarray:
@@ -176,7 +177,7 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
     pos, valid = _march(scene, a, b, steps)
     if mode.kind == "translucent":
         return _translucent(scene, pos, valid, background)
-    hit, t, s, _samples, _over, index = _first_hit(scene, a, pos, valid)
+    hit, t, s, index = _first_hit(scene, a, pos, valid)
     out = np.tile(background, (len(a), 1))
     if mode.kind == "pure":
         out[hit] = s[hit, :3]
@@ -188,8 +189,8 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
         return out
     if hit.any():
         shade = _phong(scene, t[hit], s[hit], d[hit], mode, lights, steps, shadow_steps, shadows=True)
-        if mode.translucency:  # the surface's alpha over the mean of what lies behind it
-            behind_pos, behind_valid = pos[hit], valid[hit] & (np.arange(pos.shape[1])[None, :] > index[hit, None])
+        if mode.translucency:  # the surface's alpha over the mean of what lies behind it, its own sample on
+            behind_pos, behind_valid = pos[hit], valid[hit] & (np.arange(pos.shape[1])[None, :] >= index[hit, None])
             empty = ~behind_valid.any(-1)
             behind_valid[empty, -1] = True  # nothing behind: the mean of one empty sample
             behind = _translucent(scene, behind_pos, behind_valid, background)
