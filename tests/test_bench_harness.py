@@ -36,6 +36,7 @@ def test_errors_against_reference(gl):
     assert off.max_abs_error == pytest.approx(abs(64 / 255 - 0.5), abs=1 / 255)
     assert off.rmse == pytest.approx(off.max_abs_error)  # a uniform error
     assert all(r.ms_median > 0 and r.gpu_ms_median >= 0 for r in rows)
+    assert all(r.extra["ms_min"] <= r.ms_median <= r.extra["ms_max"] for r in rows)  # the spread beside it
 
 
 def test_shape_mismatch_is_an_error():

@@ -78,31 +78,29 @@ def errors(output: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
     return float(np.sqrt(np.mean(diff * diff))), float(diff.max())
 
 
-def time_frames(ctx: moderngl.Context, draw: Callable[[], None], runs: int) -> tuple[float, float]:
-    """Median wall and GPU milliseconds of `runs` frames after one warm-up frame."""
-    draw()
-    ctx.finish()
-    wall, gpu = [], []
-    query = ctx.query(time=True)
-    for _ in range(runs):
-        start = time.perf_counter()
-        with query:
-            draw()
-        ctx.finish()
-        wall.append((time.perf_counter() - start) * 1e3)
-        gpu.append(query.elapsed / 1e6)
-    return statistics.median(wall), statistics.median(gpu)
+@dataclass
+class Timing:
+    """Wall and GPU milliseconds of every timed frame of one draw."""
+
+    wall: list[float]
+    gpu: list[float]
+
+    def medians(self) -> tuple[float, float]:
+        return statistics.median(self.wall), statistics.median(self.gpu)
+
+    def spread(self) -> dict[str, float]:
+        """Min and max beside the median: CSV columns that show how far one frame can stray from it."""
+        return {"ms_min": min(self.wall), "ms_max": max(self.wall),
+                "gpu_ms_min": min(self.gpu), "gpu_ms_max": max(self.gpu)}
 
 
-def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int
-                     ) -> dict[str, tuple[float, float]]:
-    """time_frames for several draws at once, one frame of each in turn per round, so that whatever slows the
-    machine for a while slows them alike: name -> (median wall ms, median GPU ms)."""
+def frame_timings(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int) -> dict[str, Timing]:
+    """Every frame's times for several draws, after one warm-up round: one frame of each in turn per round, so
+    that whatever slows the machine for a while slows them alike."""
     for draw in draws.values():
         draw()
     ctx.finish()
-    wall: dict[str, list[float]] = {name: [] for name in draws}
-    gpu: dict[str, list[float]] = {name: [] for name in draws}
+    timings = {name: Timing([], []) for name in draws}
     query = ctx.query(time=True)
     for _ in range(runs):
         for name, draw in draws.items():
@@ -110,9 +108,20 @@ def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]]
             with query:
                 draw()
             ctx.finish()
-            wall[name].append((time.perf_counter() - start) * 1e3)
-            gpu[name].append(query.elapsed / 1e6)
-    return {name: (statistics.median(wall[name]), statistics.median(gpu[name])) for name in draws}
+            timings[name].wall.append((time.perf_counter() - start) * 1e3)
+            timings[name].gpu.append(query.elapsed / 1e6)
+    return timings
+
+
+def time_frames(ctx: moderngl.Context, draw: Callable[[], None], runs: int) -> tuple[float, float]:
+    """Median wall and GPU milliseconds of `runs` frames after one warm-up frame."""
+    return frame_timings(ctx, {"": draw}, runs)[""].medians()
+
+
+def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int
+                     ) -> dict[str, tuple[float, float]]:
+    """frame_timings' medians: name -> (median wall ms, median GPU ms)."""
+    return {name: timing.medians() for name, timing in frame_timings(ctx, draws, runs).items()}
 
 
 def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int | None = None,
@@ -135,13 +144,14 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
             for scene_name in scene_names:
                 scene = tech.scenes[scene_name]
                 for value in values:
-                    ms, gpu_ms = time_frames(ctx, lambda: method.render(state, target, value, scene), runs)
+                    timing = frame_timings(ctx, {"": lambda: method.render(state, target, value, scene)}, runs)[""]
+                    ms, gpu_ms = timing.medians()
                     reference = method.reference or tech.reference
                     key = (reference, scene_name, value, method_size)
                     if key not in references:
                         references[key] = reference(scene, value, method_size)
                     rmse, max_err = errors(method.output(state, target, value, scene), references[key])
-                    extra = method.stats(state, target, value, scene) if method.stats else {}
+                    extra = {**timing.spread(), **(method.stats(state, target, value, scene) if method.stats else {})}
                     rows.append(Row(tech.name, method.name, method.knob, float(value), scene_name, method_size[0],
                                     method_size[1], ms, gpu_ms, runs, rmse, max_err, extra))
                     progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: "
