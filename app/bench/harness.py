@@ -92,6 +92,10 @@ class Timing:
     def medians(self) -> tuple[float, float]:
         return statistics.median(self.wall), statistics.median(self.gpu)
 
+    def summary(self) -> str:
+        """The median wall time with the spread, for progress lines."""
+        return f"{statistics.median(self.wall):8.2f} ms (min {min(self.wall):.2f}, max {max(self.wall):.2f})"
+
     def spread(self) -> dict[str, float]:
         """Min and max beside the median: CSV columns that show how far one frame can stray from it."""
         return {"ms_min": min(self.wall), "ms_max": max(self.wall),
@@ -167,8 +171,7 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
             references[key] = reference(scene, value, p.size)
         rmse, max_err = errors(method.output(p.state, p.target, value, scene), references[key])
         extra = {**timing.spread(), **(method.stats(p.state, p.target, value, scene) if method.stats else {})}
-        progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: "
-                 f"{ms:8.2f} ms (min {min(timing.wall):.2f}, max {max(timing.wall):.2f})  "
+        progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: {timing.summary()}  "
                  f"rmse {rmse:.2e}  max {max_err:.2e}")
         return Row(tech.name, method.name, method.knob, float(value), scene_name, p.size[0], p.size[1], ms, gpu_ms,
                    runs, rmse, max_err, extra)

@@ -152,7 +152,7 @@ def extra_rows(quick: bool, size, runs: int, progress) -> list[Row]:
                 rmse, worst = errors(target.read()[..., :3] / 255.0, ref)
                 rows.append(Row("lighting2d", method, "lights/hulls", float(n_lights), name, *peer_size,
                                 *timing.medians(), runs, rmse, worst, {**timing.spread(), "hulls": n_hulls}))
-                progress(f"{method:>14} {name}: {_spread(timing)}  rmse {rmse:.2e}  max {worst:.2e}")
+                progress(f"{method:>14} {name}: {timing.summary()}  rmse {rmse:.2e}  max {worst:.2e}")
         finally:
             target.release()
         if why:
@@ -170,11 +170,6 @@ def extra_rows(quick: bool, size, runs: int, progress) -> list[Row]:
         progress(f"{'pygame-light2d':>14} {name}: {result.ms_per_frame:8.2f} ms  rmse {rmse:.2e}  max {worst:.2e}")
     rows += offscreen_rows(ctx, size, OFFVIEW_ROUNDS_PER_RUN * runs, progress)
     return rows
-
-
-def _spread(timing) -> str:
-    ms, _gpu = timing.medians()
-    return f"{ms:8.2f} ms (min {min(timing.wall):.2f}, max {max(timing.wall):.2f})"
 
 
 def offview_scene(hulls: int, seed: int = 3) -> Scene2D:
@@ -220,7 +215,7 @@ def offscreen_rows(ctx, size, rounds: int, progress) -> list[Row]:
             label = f"offscreen hulls {hulls}"
             rows.append(Row("lighting2d", method, "offscreen_hulls", float(hulls), label, *size, *timing.medians(),
                             rounds, rmse, worst, {**timing.spread(), "hulls": len(state.scene.hulls), **work}))
-            progress(f"{method:>14} {label}: {_spread(timing)}  rmse {rmse:.2e}  max {worst:.2e}  "
+            progress(f"{method:>14} {label}: {timing.summary()}  rmse {rmse:.2e}  max {worst:.2e}  "
                      + " ".join(f"{k} {v}" for k, v in work.items()))
     finally:
         target.release()
