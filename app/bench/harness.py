@@ -93,8 +93,9 @@ class Timing:
         return statistics.median(self.wall), statistics.median(self.gpu)
 
     def summary(self) -> str:
-        """The median wall time with the spread, for progress lines."""
-        return f"{statistics.median(self.wall):8.2f} ms (min {min(self.wall):.2f}, max {max(self.wall):.2f})"
+        """The median wall time with the spread, for progress lines: 'median (min..max) ms' (the bench dock
+        counts lines with 'ms' before 'rmse')."""
+        return f"{statistics.median(self.wall):8.2f} ({min(self.wall):.2f}..{max(self.wall):.2f}) ms"
 
     def spread(self) -> dict[str, float]:
         """Min and max beside the median: CSV columns that show how far one frame can stray from it."""
