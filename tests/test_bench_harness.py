@@ -36,6 +36,7 @@ def test_errors_against_reference(gl):
     assert off.max_abs_error == pytest.approx(abs(64 / 255 - 0.5), abs=1 / 255)
     assert off.rmse == pytest.approx(off.max_abs_error)  # a uniform error
     assert all(r.ms_median > 0 and r.gpu_ms_median >= 0 for r in rows)
+    assert all(r.extra["ms_min"] <= r.ms_median <= r.extra["ms_max"] for r in rows)  # the spread beside it
 
 
 def test_shape_mismatch_is_an_error():
@@ -103,3 +104,25 @@ def test_interleaved_timing_draws_each_in_turn(gl):
     timed = harness.time_interleaved(gl, draws, 3)
     assert order == ["a", "b"] * 4  # one warm-up round, then three timed
     assert set(timed) == {"a", "b"} and all(wall >= 0 and gpu >= 0 for wall, gpu in timed.values())
+
+
+def test_interleaved_methods_take_turns_and_keep_their_own_rows(gl):
+    order = []
+
+    def logged(name):
+        def render(state, target, value, scene):
+            order.append((name, value))
+            render_grey(state, target, value, scene)
+        return render
+
+    methods = [Method(name, "level", (0.5, 0.25), flat_grey, logged(name), output_grey) for name in ("a", "b")]
+    tech = Technique("grey", methods, {"empty": None}, grey_reference, size=(32, 16), quick_size=(16, 8),
+                     interleave=True)
+    rows = harness.run(gl, tech, quick=True, runs=2)
+    turn = [("a", 0.5), ("a", 0.25), ("b", 0.5), ("b", 0.25)]
+    assert order == turn * 3 + turn  # a warm-up round, two timed, then each drawn again for its row
+    assert [(r.method, r.knob, r.runs) for r in rows] == [(m, v, 2) for m, v in turn]
+    # each row measures its own setting's frame, though another method's was the last one timed
+    assert rows[0].max_abs_error <= 1 / 255 and rows[2].max_abs_error <= 1 / 255
+    assert rows[1].max_abs_error == pytest.approx(abs(64 / 255 - 0.5), abs=1 / 255)
+    assert all(r.extra["ms_min"] <= r.ms_median <= r.extra["ms_max"] for r in rows)

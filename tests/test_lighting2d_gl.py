@@ -1,6 +1,7 @@
 """The 2D renderer against the exact reference: every method, the seed's known errors, and the failure
 cases of the issue (invalid hulls, a light inside or on a hull, radius 0, a disc larger than the hull,
-coordinates near 1e6, a light outside the view, 1,000-vertex hulls, 10,000 hulls far away)."""
+coordinates near 1e6, a light outside the view, 1,000-vertex hulls; 10,000 hulls far away are in
+test_lighting2d_offview.py)."""
 import math
 
 import numpy as np
@@ -151,18 +152,6 @@ def test_lights_whose_quad_misses_the_view_cost_nothing(renderer):
     scene.view = (2000, 0, 100)
     assert lightmap(renderer, scene).max() == 0
     assert renderer.stats.lights_culled == 1 and renderer.stats.lights_drawn == 0
-
-
-def test_ten_thousand_hulls_far_away_are_never_considered(renderer):
-    scene = scene2d.load(SCENES / "j_concave_three_lights.json")
-    lightmap(renderer, scene)
-    considered = renderer.stats.hulls_considered
-    rng = np.random.default_rng(0)
-    for x, y in rng.uniform((5_000, -5_000), (15_000, 5_000), (10_000, 2)):
-        scene.hulls.append(Hull([(0, 0), (10, 0), (10, 10)], position=(x, y)))
-    scene.touch()
-    lightmap(renderer, scene)
-    assert renderer.stats.hulls_considered == considered
 
 
 def test_a_thousand_vertex_hull(renderer):

@@ -1,6 +1,7 @@
 """Speed against accuracy: time each method at each quality setting and compare it with the CPU reference."""
 from __future__ import annotations
 
+import functools
 import statistics
 import time
 from dataclasses import dataclass, field
@@ -45,6 +46,9 @@ class Technique:
     extra_rows: Callable[[bool, tuple[int, int], int, Callable[[str], None]], list] | None = None  # peers' rows
     # more files in the bench's output folder, after the CSV: (ctx, folder, quick, rows, progress)
     extra_outputs: Callable[[moderngl.Context, Path, bool, list["Row"], Callable[[str], None]], None] | None = None
+    # every method's frames of a scene in turn (all methods' states alive at once), so that a busy machine slows
+    # the methods compared alike; else each setting is timed on its own, one after the other
+    interleave: bool = False
 
 
 @dataclass
@@ -78,31 +82,34 @@ def errors(output: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
     return float(np.sqrt(np.mean(diff * diff))), float(diff.max())
 
 
-def time_frames(ctx: moderngl.Context, draw: Callable[[], None], runs: int) -> tuple[float, float]:
-    """Median wall and GPU milliseconds of `runs` frames after one warm-up frame."""
-    draw()
-    ctx.finish()
-    wall, gpu = [], []
-    query = ctx.query(time=True)
-    for _ in range(runs):
-        start = time.perf_counter()
-        with query:
-            draw()
-        ctx.finish()
-        wall.append((time.perf_counter() - start) * 1e3)
-        gpu.append(query.elapsed / 1e6)
-    return statistics.median(wall), statistics.median(gpu)
+@dataclass
+class Timing:
+    """Wall and GPU milliseconds of every timed frame of one draw."""
+
+    wall: list[float]
+    gpu: list[float]
+
+    def medians(self) -> tuple[float, float]:
+        return statistics.median(self.wall), statistics.median(self.gpu)
+
+    def summary(self) -> str:
+        """The median wall time with the spread, for progress lines: 'median (min..max) ms' (the bench dock
+        counts lines with 'ms' before 'rmse')."""
+        return f"{statistics.median(self.wall):8.2f} ({min(self.wall):.2f}..{max(self.wall):.2f}) ms"
+
+    def spread(self) -> dict[str, float]:
+        """Min and max beside the median: CSV columns that show how far one frame can stray from it."""
+        return {"ms_min": min(self.wall), "ms_max": max(self.wall),
+                "gpu_ms_min": min(self.gpu), "gpu_ms_max": max(self.gpu)}
 
 
-def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int
-                     ) -> dict[str, tuple[float, float]]:
-    """time_frames for several draws at once, one frame of each in turn per round, so that whatever slows the
-    machine for a while slows them alike: name -> (median wall ms, median GPU ms)."""
+def frame_timings(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int) -> dict[str, Timing]:
+    """Every frame's times for several draws, after one warm-up round: one frame of each in turn per round, so
+    that whatever slows the machine for a while slows them alike."""
     for draw in draws.values():
         draw()
     ctx.finish()
-    wall: dict[str, list[float]] = {name: [] for name in draws}
-    gpu: dict[str, list[float]] = {name: [] for name in draws}
+    timings = {name: Timing([], []) for name in draws}
     query = ctx.query(time=True)
     for _ in range(runs):
         for name, draw in draws.items():
@@ -110,9 +117,29 @@ def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]]
             with query:
                 draw()
             ctx.finish()
-            wall[name].append((time.perf_counter() - start) * 1e3)
-            gpu[name].append(query.elapsed / 1e6)
-    return {name: (statistics.median(wall[name]), statistics.median(gpu[name])) for name in draws}
+            timings[name].wall.append((time.perf_counter() - start) * 1e3)
+            timings[name].gpu.append(query.elapsed / 1e6)
+    return timings
+
+
+def time_frames(ctx: moderngl.Context, draw: Callable[[], None], runs: int) -> tuple[float, float]:
+    """Median wall and GPU milliseconds of `runs` frames after one warm-up frame."""
+    return frame_timings(ctx, {"": draw}, runs)[""].medians()
+
+
+def time_interleaved(ctx: moderngl.Context, draws: dict[str, Callable[[], None]], runs: int
+                     ) -> dict[str, tuple[float, float]]:
+    """frame_timings' medians: name -> (median wall ms, median GPU ms)."""
+    return {name: timing.medians() for name, timing in frame_timings(ctx, draws, runs).items()}
+
+
+@dataclass
+class _Prepared:
+    """One method ready to draw: its target, its output's size, its state and its quality settings."""
+    target: OffscreenTarget
+    size: tuple[int, int]
+    state: Any
+    values: Sequence[float]
 
 
 def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int | None = None,
@@ -123,29 +150,55 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
     references: dict[tuple, np.ndarray] = {}
     rows: list[Row] = []
     targets: dict[tuple[int, int], OffscreenTarget] = {}
+
+    def prepare(method: Method) -> _Prepared:
+        own = method.quick_size if quick else method.size
+        method_size = tuple(own) if own is not None else size
+        if method_size not in targets:
+            targets[method_size] = OffscreenTarget(ctx, method_size)
+        values = method.quick_values if quick and method.quick_values is not None else method.values
+        return _Prepared(targets[method_size], method_size, method.setup(ctx), values)
+
+    def draw(method: Method, p: _Prepared, scene_name: str, value: float) -> Callable[[], None]:
+        return functools.partial(method.render, p.state, p.target, value, tech.scenes[scene_name])
+
+    def row(method: Method, p: _Prepared, scene_name: str, value: float, timing: Timing) -> Row:
+        """The row of one timed setting, from what its target holds now."""
+        scene = tech.scenes[scene_name]
+        ms, gpu_ms = timing.medians()
+        reference = method.reference or tech.reference
+        key = (reference, scene_name, value, p.size)
+        if key not in references:
+            references[key] = reference(scene, value, p.size)
+        rmse, max_err = errors(method.output(p.state, p.target, value, scene), references[key])
+        extra = {**timing.spread(), **(method.stats(p.state, p.target, value, scene) if method.stats else {})}
+        progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: {timing.summary()}  "
+                 f"rmse {rmse:.2e}  max {max_err:.2e}")
+        return Row(tech.name, method.name, method.knob, float(value), scene_name, p.size[0], p.size[1], ms, gpu_ms,
+                   runs, rmse, max_err, extra)
+
     try:
-        for method in tech.methods:
-            own = method.quick_size if quick else method.size
-            method_size = tuple(own) if own is not None else size
-            if method_size not in targets:
-                targets[method_size] = OffscreenTarget(ctx, method_size)
-            target = targets[method_size]
-            state = method.setup(ctx)
-            values = method.quick_values if quick and method.quick_values is not None else method.values
+        if tech.interleave:
+            prepared = [prepare(method) for method in tech.methods]
+            timings: dict[tuple, Timing] = {}
             for scene_name in scene_names:
-                scene = tech.scenes[scene_name]
-                for value in values:
-                    ms, gpu_ms = time_frames(ctx, lambda: method.render(state, target, value, scene), runs)
-                    reference = method.reference or tech.reference
-                    key = (reference, scene_name, value, method_size)
-                    if key not in references:
-                        references[key] = reference(scene, value, method_size)
-                    rmse, max_err = errors(method.output(state, target, value, scene), references[key])
-                    extra = method.stats(state, target, value, scene) if method.stats else {}
-                    rows.append(Row(tech.name, method.name, method.knob, float(value), scene_name, method_size[0],
-                                    method_size[1], ms, gpu_ms, runs, rmse, max_err, extra))
-                    progress(f"{method.name:>10} {scene_name:>10} {method.knob}={value:g}: "
-                             f"{ms:8.2f} ms  rmse {rmse:.2e}  max {max_err:.2e}")
+                progress(f"{scene_name}: every method's frames in turn, {runs} rounds")
+                draws = {(k, value): draw(method, p, scene_name, value)
+                         for k, (method, p) in enumerate(zip(tech.methods, prepared)) for value in p.values}
+                timings.update({(k, scene_name, value): timing
+                                for (k, value), timing in frame_timings(ctx, draws, runs).items()})
+            for k, (method, p) in enumerate(zip(tech.methods, prepared)):
+                for scene_name in scene_names:
+                    for value in p.values:
+                        draw(method, p, scene_name, value)()  # the target holds another method's frame by now
+                        rows.append(row(method, p, scene_name, value, timings[(k, scene_name, value)]))
+        else:
+            for method in tech.methods:
+                p = prepare(method)
+                for scene_name in scene_names:
+                    for value in p.values:
+                        timing = frame_timings(ctx, {"": draw(method, p, scene_name, value)}, runs)[""]
+                        rows.append(row(method, p, scene_name, value, timing))
     finally:
         for target in targets.values():
             target.release()

@@ -5,7 +5,9 @@ Each method's output is the lightmap as the screen shows it (diffuse white, 8-bi
 app.reference.lighting2d on a 0..1 scale. Extra rows:
 - `pygame-light2d` and our methods on lights/hulls 10/10, 200/1, 10/200, 200/200 (random, seeded), in
   pygame's y-down pixel coordinates (r_flipY) with hard point lights (its lights have no disc);
-- `offscreen hulls`: the default method on scene j with 0 and 10,000 hulls outside the view.
+- `offscreen hulls`: the default method on scene j with 0 and 10,000 hulls outside the view, the lightmap
+  alone and the editor's whole frame, their frames interleaved, with each frame's work.
+Every row has its frames' min and max beside the median (ms_min, ms_max, gpu_ms_min, gpu_ms_max).
 """
 from __future__ import annotations
 
@@ -14,7 +16,7 @@ import math
 
 import numpy as np
 
-from app.bench.harness import Method, Row, Technique, errors, time_frames
+from app.bench.harness import Method, Row, Technique, errors, frame_timings
 from app.gl.headless import OffscreenTarget
 from app.gl.lighting2d import Lighting2DRenderer, Shading2D
 from app.gl.shaders import ShaderLibrary
@@ -27,6 +29,9 @@ from app.resources import SCENES, SHADERS
 DEFAULT = "exact"
 QUICK_SCENES = ("a_penumbra_transition", "e_antumbra", "g_overlapping_hulls", "j_concave_three_lights")
 PEER_SETUPS = ((10, 10), (200, 1), (10, 200), (200, 200))
+OFFVIEW_HULLS = 10_000
+OFFVIEW_ROUNDS_PER_RUN = 80  # a few percent to tell apart on a busy machine: many short frames, interleaved
+WORK = ("hulls_considered", "index_cells", "index_boxes", "vertices_uploaded")  # one frame's, as CSV columns
 
 
 def sample_scenes() -> dict[str, tuple[Scene2D, Camera2D]]:
@@ -88,6 +93,7 @@ def technique(quick: bool = False) -> Technique:
         quick_size=(256, 160),
         quick_scenes=QUICK_SCENES,
         extra_rows=extra_rows,
+        interleave=True,  # the table compares the methods' times (exact against penumbra): they take turns
     )
 
 
@@ -137,14 +143,16 @@ def extra_rows(quick: bool, size, runs: int, progress) -> list[Row]:
         camera = Camera2D(*scene.view)
         target = OffscreenTarget(ctx, peer_size)
         try:
-            for method in ("exact", "penumbra"):
-                settings = Shading2D(method=method, flip_y=True)
-                ms, gpu = time_frames(ctx, lambda: renderer.render(target.fbo, scene, camera, settings,
-                                                                  lightmap_only=True), runs)
+            # one renderer for both: the scene's geometry serves every method, so their frames can take turns
+            draws = {method: functools.partial(renderer.render, target.fbo, scene, camera,
+                                               Shading2D(method=method, flip_y=True), lightmap_only=True)
+                     for method in ("exact", "penumbra")}
+            for method, timing in frame_timings(ctx, draws, runs).items():
+                draws[method]()
                 rmse, worst = errors(target.read()[..., :3] / 255.0, ref)
-                rows.append(Row("lighting2d", method, "lights/hulls", float(n_lights), name, *peer_size, ms, gpu,
-                                runs, rmse, worst, {"hulls": n_hulls}))
-                progress(f"{method:>14} {name}: {ms:8.2f} ms  rmse {rmse:.2e}  max {worst:.2e}")
+                rows.append(Row("lighting2d", method, "lights/hulls", float(n_lights), name, *peer_size,
+                                *timing.medians(), runs, rmse, worst, {**timing.spread(), "hulls": n_hulls}))
+                progress(f"{method:>14} {name}: {timing.summary()}  rmse {rmse:.2e}  max {worst:.2e}")
         finally:
             target.release()
         if why:
@@ -160,32 +168,55 @@ def extra_rows(quick: bool, size, runs: int, progress) -> list[Row]:
         rows.append(Row("lighting2d", "pygame-light2d", "lights/hulls", float(n_lights), name, *peer_size,
                         result.ms_per_frame, math.nan, frames, rmse, worst, {"hulls": n_hulls}))
         progress(f"{'pygame-light2d':>14} {name}: {result.ms_per_frame:8.2f} ms  rmse {rmse:.2e}  max {worst:.2e}")
-    rows += offscreen_rows(ctx, renderer, size, runs, progress)
+    rows += offscreen_rows(ctx, size, OFFVIEW_ROUNDS_PER_RUN * runs, progress)
     return rows
 
 
-def offscreen_rows(ctx, renderer, size, runs, progress) -> list[Row]:
-    """The default method on scene j alone and with 10,000 hulls far outside the view."""
-    base = scene2d.load(SCENES / "j_concave_three_lights.json")
-    crowded = scene2d.load(SCENES / "j_concave_three_lights.json")
-    rng = np.random.default_rng(3)
+def offview_scene(hulls: int, seed: int = 3) -> Scene2D:
+    """Scene j with `hulls` small squares 5,000..15,000 units to its right, far outside its view."""
+    scene = scene2d.load(SCENES / "j_concave_three_lights.json")
     square = [(0, 0), (12, 0), (12, 12), (0, 12)]
-    for x, y in rng.uniform((5_000, -5_000), (15_000, 5_000), (10_000, 2)):
-        crowded.hulls.append(Hull(square, position=(x, y)))
+    for x, y in np.random.default_rng(seed).uniform((5_000, -5_000), (15_000, 5_000), (hulls, 2)):
+        scene.hulls.append(Hull(square, position=(x, y)))
+    return scene
+
+
+def offscreen_rows(ctx, size, rounds: int, progress) -> list[Row]:
+    """The default method on scene j alone and with 10,000 hulls far outside the view: the lightmap alone
+    (`exact`) and the editor's whole frame, its overlay included (`exact+overlay`). Each of the four has its
+    own renderer (one renderer would rebuild its index at every change of scene) and their frames take
+    turns, so that a busy machine slows them alike; the rows carry each frame's work beside its times."""
+    from app.gl.lighting2d_workspace import Lighting2DWorkspaceRenderer
+    from app.model.lighting2d_workspace import Lighting2DWorkspace
+
+    settings = Shading2D(method=DEFAULT)
     target = OffscreenTarget(ctx, size)
+    variants, draws = {}, {}
+    for hulls in (0, OFFVIEW_HULLS):
+        state = Lighting2DWorkspace(offview_scene(hulls))
+        lit = Lighting2DRenderer(ctx, ShaderLibrary(ctx, [SHADERS]))
+        editor = Lighting2DWorkspaceRenderer(ctx, ShaderLibrary(ctx, [SHADERS]))
+        variants[(DEFAULT, hulls)] = (state, lit, None)
+        variants[(f"{DEFAULT}+overlay", hulls)] = (state, editor.lighting, editor.overlay)
+        draws[(DEFAULT, hulls)] = functools.partial(lit.render, target.fbo, state.scene, state.camera, settings,
+                                                    lightmap_only=True)
+        draws[(f"{DEFAULT}+overlay", hulls)] = functools.partial(editor.render, target.fbo, state, settings)
     rows = []
     try:
-        ref = reference.render(base, *size)
-        for label, scene in (("offscreen hulls 0", base), ("offscreen hulls 10000", crowded)):
-            camera = Camera2D(*scene.view)
-            settings = Shading2D(method=DEFAULT)
-            renderer.render(target.fbo, scene, camera, settings, lightmap_only=True)  # index built once
-            ms, gpu = time_frames(ctx, lambda: renderer.render(target.fbo, scene, camera, settings,
-                                                              lightmap_only=True), max(runs, 5))
-            rmse, worst = errors(target.read()[..., :3] / 255.0, ref)
-            rows.append(Row("lighting2d", DEFAULT, "offscreen_hulls", float(len(scene.hulls) - len(base.hulls)), label,
-                            *size, ms, gpu, max(runs, 5), rmse, worst, {"hulls": len(scene.hulls)}))
-            progress(f"{DEFAULT:>14} {label}: {ms:8.2f} ms  rmse {rmse:.2e}  max {worst:.2e}")
+        ref = reference.render(variants[(DEFAULT, 0)][0].scene, *size)
+        for (method, hulls), timing in frame_timings(ctx, draws, rounds).items():
+            state, lit, overlay = variants[(method, hulls)]
+            draws[(method, hulls)]()
+            work = {name: getattr(lit.stats, name) for name in WORK}
+            if overlay is not None:
+                work["overlay_hulls"] = overlay.hulls_seen
+            # the lightmap is what the reference defines; the editor's frame has the background and overlay too
+            rmse, worst = errors(target.read()[..., :3] / 255.0, ref) if method == DEFAULT else (math.nan, math.nan)
+            label = f"offscreen hulls {hulls}"
+            rows.append(Row("lighting2d", method, "offscreen_hulls", float(hulls), label, *size, *timing.medians(),
+                            rounds, rmse, worst, {**timing.spread(), "hulls": len(state.scene.hulls), **work}))
+            progress(f"{method:>14} {label}: {timing.summary()}  rmse {rmse:.2e}  max {worst:.2e}  "
+                     + " ".join(f"{k} {v}" for k, v in work.items()))
     finally:
         target.release()
     return rows

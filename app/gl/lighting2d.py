@@ -30,10 +30,15 @@ ALL = (True, True, True, True)
 
 @dataclass
 class FrameStats:
+    """What one frame did: the work that must not grow with hulls outside the view."""
     lights_drawn: int = 0
     lights_culled: int = 0
     hulls_considered: int = 0
     skipped_inside: list[int] = field(default_factory=list)
+    index_cells: int = 0        # grid cells the scene index visited
+    index_boxes: int = 0        # hull boxes the scene index tested
+    hulls_built: int = 0        # hulls whose geometry was (re)built for a light
+    vertices_uploaded: int = 0  # rows written to the edge, triangle and region buffers
 
 
 class Lighting2DRenderer:
@@ -101,16 +106,14 @@ class Lighting2DRenderer:
     def build_lightmap(self, scene: Scene2D, camera: Camera2D, size: tuple[int, int], settings: Shading2D):
         if settings.method not in METHODS:
             raise ValueError(f"unknown shadow method {settings.method!r}; there are {', '.join(METHODS)}")
-        if self._index is None or self._index.version != scene.version or self._index.scene is not scene:
-            self._index = SceneIndex(scene)
-            self._index_builds += 1
-            self._geometry.clear()
+        index = self.index(scene)
         w, h = (max(1, round(v * settings.lightmap_scale)) for v in size)
         lightmap, fbo = self._target("lightmap", (w, h), 4, "f2", depth=True)
         fbo.scissor = None
         _bind(fbo, ALL)
         fbo.clear(*scene.ambient, 1.0)
         self.stats = FrameStats()
+        cells, boxes = index.grid.cells_visited, index.grid.boxes_tested
         scale, offset = self._clip_transform(camera, w, h, settings.flip_y)
         view = camera.view_rect(w, h)
         drawn = []
@@ -121,11 +124,13 @@ class Lighting2DRenderer:
             if x1 < view[0] or x0 > view[2] or y1 < view[1] or y0 > view[3]:
                 self.stats.lights_culled += 1
                 continue
-            if self._index.centre_blocked(light):
+            if index.centre_blocked(light):
                 self.stats.skipped_inside.append(i)
                 continue
             drawn.append(i)
         self._upload_batch(scene, drawn)
+        self.stats.index_cells = index.grid.cells_visited - cells
+        self.stats.index_boxes = index.grid.boxes_tested - boxes
         for i in drawn:
             self._draw_light(fbo, scene.lights[i], self._spans[i], scale, offset, settings, scene)
             self.stats.lights_drawn += 1
@@ -133,6 +138,15 @@ class Lighting2DRenderer:
         _bind(fbo, ALL)
         self.ctx.disable(moderngl.BLEND)
         return lightmap
+
+    def index(self, scene: Scene2D) -> SceneIndex:
+        """The scene's index for its current version, built again only after the scene changed (the
+        editor's overlay asks it for the outlines in view)."""
+        if self._index is None or self._index.version != scene.version or self._index.scene is not scene:
+            self._index = SceneIndex(scene)
+            self._index_builds += 1
+            self._geometry.clear()
+        return self._index
 
     def _upload_batch(self, scene: Scene2D, drawn: list[int]) -> None:
         """The geometry of every light drawn, in one buffer (and one texture) each, uploaded only when
@@ -143,6 +157,7 @@ class Lighting2DRenderer:
         for i in drawn:
             if i not in self._geometry:
                 self._geometry[i] = LightGeometry.build(scene, self._index, scene.lights[i])
+                self.stats.hulls_built += self._geometry[i].hull_count
         parts = [self._geometry[i] for i in drawn]
         starts = [np.cumsum([0] + [len(getattr(g, name)) for g in parts])
                   for name in ("edges", "triangles", "pieces", "heads")]
@@ -363,6 +378,7 @@ class Lighting2DRenderer:
 
     def _upload(self, buffer: moderngl.Buffer, data: np.ndarray, dtype: str = "f4") -> None:
         data = np.ascontiguousarray(data, dtype)
+        self.stats.vertices_uploaded += len(data)
         if data.nbytes > buffer.size:
             buffer.orphan(data.nbytes)
         if data.nbytes:

@@ -1,5 +1,6 @@
 """Lines over the lit 2D scene: each light's icon at its centre and invalid hulls in red (always), the debug
-wireframe (hull outlines, light quads, emitting discs) and the editor's selection with its handles."""
+wireframe (hull outlines, light quads, emitting discs) and the editor's selection with its handles. Only the
+hulls in view are looked at (the scene index finds them), so hulls far away cost a frame nothing."""
 from __future__ import annotations
 
 import math
@@ -9,7 +10,7 @@ import numpy as np
 from app.gl.lines2d import Lines2D
 from app.model.camera2d import Camera2D
 from app.model.lighting2d import Scene2D
-from app.model.lighting2d_index import light_quad
+from app.model.lighting2d_index import SceneIndex, light_quad
 
 INVALID = (1.0, 0.2, 0.2, 1.0)
 WIRE = (0.9, 0.9, 0.9, 0.8)
@@ -70,9 +71,11 @@ def handles(scene: Scene2D, selection, unit: float) -> dict[str, np.ndarray]:
 class Lighting2DOverlay:
     def __init__(self, ctx, shaders) -> None:
         self.lines = Lines2D(ctx, shaders)
+        self.hulls_seen = 0  # hulls the last frame looked at (those in view)
 
-    def draw(self, fbo, scene: Scene2D, camera: Camera2D, flip_y: bool, debug: bool, selection=None,
-             pending=None) -> None:
+    def draw(self, fbo, scene: Scene2D, index: SceneIndex, camera: Camera2D, flip_y: bool, debug: bool,
+             selection=None, pending=None) -> None:
+        """`index` is the scene's index for its current version (the renderer's)."""
         unit = camera.world_per_pixel(fbo.size[1])
         groups: list[tuple[tuple, list[np.ndarray]]] = [(INVALID, []), (WIRE, []), (LIGHT, []), (ICON_SHADE, []),
                                                         (ICON, []), (SELECTED, [])]
@@ -81,11 +84,13 @@ class Lighting2DOverlay:
             lines, rim = light_icon(*light.position, unit)
             icons.append(lines)
             rims.append(rim)
-        for hull in scene.hulls:
-            if len(hull.points) >= 2:
-                target = invalid if not hull.valid else (wire if debug else None)
-                if target is not None:
-                    target.append(loop(hull.world()) if len(hull.points) > 2 else hull.world()[None])
+        seen = index.outlines_in(*camera.view_rect(*fbo.size))  # the view is symmetric about cy: flip_y too
+        self.hulls_seen = len(seen)
+        for i in seen:
+            hull = scene.hulls[i]
+            target = invalid if not hull.valid else (wire if debug else None)
+            if target is not None:
+                target.append(loop(hull.world()) if len(hull.points) > 2 else hull.world()[None])
         if debug:
             for light in scene.lights:
                 lights.append(loop(light_quad(light)))

@@ -16,8 +16,8 @@ class Lighting2DWorkspaceRenderer(WorkspaceRendererBase):
 
     def render(self, fbo, state, settings: Shading2D, interactive: bool = False) -> bool:
         self.lighting.render(fbo, state.scene, state.camera, settings)
-        self.overlay.draw(fbo, state.scene, state.camera, settings.flip_y, settings.debug, state.selection,
-                          state.pending)
+        self.overlay.draw(fbo, state.scene, self.lighting.index(state.scene), state.camera, settings.flip_y,
+                          settings.debug, state.selection, state.pending)
         return False
 
     def value_at(self, x: float, y: float, size: tuple[int, int]):

@@ -156,6 +156,7 @@ class Hull:
     _world: np.ndarray | None = field(init=False, default=None, repr=False)
     _pieces: list[np.ndarray] | None = field(init=False, default=None, repr=False)
     _world_pieces: list[np.ndarray] | None = field(init=False, default=None, repr=False)
+    _bounds: tuple[float, float, float, float] | None = field(init=False, default=None, repr=False)
 
     def __post_init__(self) -> None:
         self.set_points(self.points)
@@ -172,7 +173,7 @@ class Hull:
         if self.invalid_reason is None and signed_area(pts) < 0:
             pts = pts[::-1].copy()  # Penumbra detects the winding and normalises to counter-clockwise
         self.points = pts
-        self._world = self._pieces = self._world_pieces = None  # dirty
+        self._world = self._pieces = self._world_pieces = self._bounds = None  # dirty
 
     def set_transform(self, position, origin, rotation: float, scale) -> None:
         _finite("hull position", *position)
@@ -181,7 +182,7 @@ class Hull:
         _non_negative("hull scale", *scale)
         self.position, self.origin = tuple(map(float, position)), tuple(map(float, origin))
         self.rotation, self.scale = float(rotation), tuple(map(float, scale))
-        self._world = self._world_pieces = None
+        self._world = self._world_pieces = self._bounds = None
 
     def to_world(self, local: np.ndarray) -> np.ndarray:
         c, s = math.cos(self.rotation), math.sin(self.rotation)
@@ -205,9 +206,12 @@ class Hull:
         return self._world_pieces
 
     def bounds(self) -> tuple[float, float, float, float]:
-        pts = self.world()
-        (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
-        return float(x0), float(y0), float(x1), float(y1)
+        """The world outline's box, kept like the outline (the scene index asks every hull's after an edit)."""
+        if self._bounds is None:
+            pts = self.world()
+            (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
+            self._bounds = float(x0), float(y0), float(x1), float(y1)
+        return self._bounds
 
     def contains(self, x: float, y: float) -> bool:
         """Even-odd test on the world outline (a light inside a hull is not drawn)."""

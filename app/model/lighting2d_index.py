@@ -1,6 +1,6 @@
 """What the 2D renderer asks of a scene, answered once per scene version: the hulls that can cast
-into a light's reach (through a grid index), each light's bounds, and whether its centre is inside a
-hull (then Penumbra does not draw it)."""
+into a light's reach (through a grid index), the outlines the editor's overlay draws in the view,
+each light's bounds, and whether its centre is inside a hull (then Penumbra does not draw it)."""
 from __future__ import annotations
 
 import math
@@ -30,13 +30,21 @@ class SceneIndex:
     def __init__(self, scene: Scene2D) -> None:
         self.version = scene.version
         self.scene = scene
-        self.active = [i for i, h in enumerate(scene.hulls) if h.enabled and h.valid]
-        boxes = np.array([scene.hulls[i].bounds() for i in self.active]).reshape(-1, 4)
+        # every hull with an outline (invalid and disabled ones too: the overlay draws them); only the
+        # enabled valid ones cast shadows
+        self.outlined = np.array([i for i, h in enumerate(scene.hulls) if len(h.points) >= 2], np.int64)
+        self.casting = np.array([scene.hulls[i].enabled and scene.hulls[i].valid for i in self.outlined], bool)
+        boxes = np.array([scene.hulls[i].bounds() for i in self.outlined]).reshape(-1, 4)
         self.grid = GridIndex(boxes)
 
+    def outlines_in(self, x0: float, y0: float, x1: float, y1: float) -> list[int]:
+        """Indices (into scene.hulls) of hulls with an outline whose bounds meet the rectangle."""
+        return self.outlined[self.grid.query(x0, y0, x1, y1)].tolist()
+
     def hulls_in(self, x0: float, y0: float, x1: float, y1: float, ignored=()) -> list[int]:
-        """Indices (into scene.hulls) of active hulls whose bounds meet the rectangle."""
-        found = [self.active[k] for k in self.grid.query(x0, y0, x1, y1).tolist()]
+        """Indices (into scene.hulls) of shadow-casting hulls whose bounds meet the rectangle."""
+        found = self.grid.query(x0, y0, x1, y1)
+        found = self.outlined[found[self.casting[found]]].tolist()
         return [i for i in found if i not in ignored] if ignored else found
 
     def reach(self, light: Light) -> tuple[float, float, float, float]:
