@@ -269,7 +269,7 @@ class Lighting2DRenderer:
             "light2d_exact", common, u_pieces=0, u_begin=span.piece_first,
             u_end=span.piece_first + len(span.geometry.pieces), u_radius=float(light.radius),
             u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=span.geometry.touching, u_outside=outside,
-            u_disc_samples=int(settings.disc_samples), **self._quad_uniforms(light))
+            **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
         self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)

@@ -4,7 +4,8 @@
 // area of the disc between rays at offsets u1 < u2 from its centre (in radii) is g(u2) - g(u1) with
 // g(x) = (x sqrt(1 - x^2) + asin x) / pi. The intervals of all pieces are merged before their area is
 // taken, so two hulls hiding the same half hide half (Penumbra adds them and hides all).
-// Pieces that touch the disc break the interval picture; there the disc is sampled (u_touching).
+// Pieces that touch the disc break the interval picture; there the disc clipped by the pieces' shadows
+// is measured instead (u_touching, light2d_disc.shl).
 in vec2 v_uv;
 in vec2 v_rel;                 // this pixel, relative to the light's centre
 uniform sampler2D u_pieces;    // per piece: (centre x, y, bounding radius, n + 4096 hull), n/2 texels of vertices
@@ -14,7 +15,6 @@ uniform float u_radius;
 uniform int u_shadow_type;     // 0 solid, 1 illuminated, 2 occluded
 uniform bool u_touching;
 uniform bool u_outside;        // the pass runs outside every hull (a solid light's cover leaves them out)
-uniform int u_disc_samples;
 out vec4 frag_color;
 
 const float PI = 3.14159265358979;
@@ -117,21 +117,8 @@ int containing_hull(vec2 p, out bool settled, out float value) {
     return -1;
 }
 
-float sampled(vec2 p, int own) {
-    // Vogel disc: area-uniform, stratified in radius, golden-angle in angle
-    int hidden = 0;
-    for (int s = 0; s < u_disc_samples; ++s) {
-        float rr = u_radius * sqrt((float(s) + 0.5) / float(u_disc_samples));
-        float a = float(s) * 2.39996323;
-        vec2 d = rr * vec2(cos(a), sin(a)) - p;
-        int i = u_begin, base, n;
-        vec4 head;
-        while (next_piece(i, p, u_radius, own, false, head, base, n)) {
-            if (enter_at(p, d, base, n) < 1.0) { ++hidden; break; }
-        }
-    }
-    return 1.0 - float(hidden) / float(u_disc_samples);
-}
+//#INCLUDE light2d_disc.shl
+//#INSERT light2d_disc
 
 float visibility(vec2 p) {
     // inside a solid hull is dark, which the loops below find on their way (any early 0 is right);
@@ -144,7 +131,7 @@ float visibility(vec2 p) {
         if (settled) return value;
     }
     float dist = length(p);
-    if (u_touching) return sampled(p, own);
+    if (u_touching) return clipped_share(p, own);
     float r = u_radius;
     int i = u_begin, base, n;
     vec4 head;
