@@ -266,9 +266,9 @@ class Lighting2DRenderer:
     def _exact_pass(self, fbo, light, span, common, settings: Shading2D, outside: bool) -> None:
         self._pieces.use(0)
         program = self._program(
-            "light2d_exact", common, u_pieces=0, u_begin=span.piece_first,
-            u_end=span.piece_first + len(span.geometry.pieces), u_radius=float(light.radius),
-            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=span.geometry.touching, u_outside=outside,
+            "light2d_disc" if span.geometry.touching else "light2d_exact", common, u_pieces=0,
+            u_begin=span.piece_first, u_end=span.piece_first + len(span.geometry.pieces),
+            u_radius=float(light.radius), u_shadow_type=SHADOW_TYPES[light.shadow_type], u_outside=outside,
             **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
