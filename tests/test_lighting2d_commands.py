@@ -116,7 +116,7 @@ def test_scene_files_round_trip_and_malformed_ones_change_nothing(editor, tmp_pa
 
 def test_every_sample_scene_loads(editor):
     names = sorted(p.stem for p in SCENES.glob("*.json"))
-    assert len(names) == 10 and [n[0] for n in names] == list("abcdefghij")
+    assert len(names) == 13 and [n[0] for n in names] == list("abcdefghijklm")
     for name in names:
         assert editor.execute(f"lighting.sample {name}")
         assert all(h.valid for h in editor.workspaces["lighting2d"].scene.hulls)

@@ -199,7 +199,7 @@ class Lighting2DRenderer:
             method = "hard"  # the seed's wedges need a disc; a point casts hard shadows (no NaN)
         if shadows:
             if method == "exact":
-                self._exact_mask(fbo, light, span, common, settings)
+                self._exact_mask(fbo, light, span, common)
             else:
                 if method in ("hard", "penumbra"):
                     self._edge_mask(fbo, light, span, common, soft=method == "penumbra")
@@ -256,13 +256,13 @@ class Lighting2DRenderer:
             self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
         self._mask_into_alpha(fbo, mask, (1.0, 0.0, 0.0, 0.0), blend=False)
 
-    def _exact_mask(self, fbo, light, span, common, settings: Shading2D) -> None:
+    def _exact_mask(self, fbo, light, span, common) -> None:
         """Mark in the depth buffer where some piece hides some of the disc (the cover: every piece and
         its shadow), and nearer where one piece hides all of it (its umbra, mask 0, solid lights only);
         run the per-pixel coverage where only the cover is. Elsewhere a pixel sees all of the disc or
         none of it, and the mask is already right."""
         if span.geometry.touching:  # a hull overlaps the disc: shadows can fall anywhere, so no cover
-            self._exact_pass(fbo, light, span, common, settings, outside=False)
+            self._exact_pass(fbo, light, span, common, outside=False)
             return
         self._pieces.use(0)
         region = self._program("light2d_region", common, u_pieces=0, u_radius=float(light.radius),
@@ -285,18 +285,18 @@ class Lighting2DRenderer:
         fbo.depth_mask = False
         self.ctx.depth_func = "=="
         try:
-            self._exact_pass(fbo, light, span, common, settings, outside=solid)
+            self._exact_pass(fbo, light, span, common, outside=solid)
         finally:
             self.ctx.disable(moderngl.DEPTH_TEST)
             fbo.depth_mask = True
 
-    def _exact_pass(self, fbo, light, span, common, settings: Shading2D, outside: bool) -> None:
+    def _exact_pass(self, fbo, light, span, common, outside: bool) -> None:
         self._pieces.use(0)
         program = self._program(
-            "light2d_exact", common, u_pieces=0, u_begin=span.piece_first,
-            u_end=span.piece_first + len(span.geometry.pieces), u_radius=float(light.radius),
-            u_shadow_type=SHADOW_TYPES[light.shadow_type], u_touching=span.geometry.touching, u_outside=outside,
-            u_disc_samples=int(settings.disc_samples), **self._quad_uniforms(light))
+            "light2d_disc" if span.geometry.touching else "light2d_exact", common, u_pieces=0,
+            u_begin=span.piece_first, u_end=span.piece_first + len(span.geometry.pieces),
+            u_radius=float(light.radius), u_shadow_type=SHADOW_TYPES[light.shadow_type], u_outside=outside,
+            **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
         self.ctx.disable(moderngl.BLEND)
         self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)

@@ -317,5 +317,4 @@ class Shading2D:
     lightmap_scale: float = 1.0   # the lightmap's resolution relative to the screen
     flip_y: bool = False          # a y-down world (screen coordinates), as with Penumbra's SpriteBatch transform
     normal_maps: bool = True
-    disc_samples: int = 64        # exact: samples of the disc where a hull touches it
     debug: bool = False           # the editor's overlay: hulls, lights and their reach as wireframe

@@ -6,7 +6,8 @@ disc, that share is exact: seen from the pixel, each convex hull piece in front 
 disc between two rays, and the hidden area between two rays at offsets u1 < u2 from the disc's centre is
 G(u2) - G(u1) with G(u) = u sqrt(r^2 - u^2) + r^2 asin(u / r); the pieces' intervals are fused (their
 union measured) before the area is taken, so two hulls hiding the same half hide half. Where a piece
-touches the disc, the disc is sampled on a stratified grid fine enough to converge (`samples`).
+touches the disc, the hidden share is the area of the disc clipped by the union of the pieces' shadows,
+in closed form too (`lighting2d_disc.py`); `sampled` measures it by sampling the disc, and converges on it.
 
 Hull semantics per light (shadow_type): solid hulls are dark inside; illuminated hulls are lit inside as
 if nothing cast shadows; occluded hulls are lit inside by what the other hulls let through. A light whose
@@ -19,19 +20,20 @@ import numpy as np
 
 from app.model.lighting2d import Light, Scene2D, inside_convex
 from app.model.lighting2d_index import SceneIndex
+from app.reference.lighting2d_disc import hidden_share
 from app.reference.lighting2d_light import light_value, normal_factor, pixel_world, textures_for
 
 CHUNK = 4096  # pixels per vectorised block
 
 
-def render(scene: Scene2D, width: int, height: int, view=None, samples: int = 64, flip_y: bool = False) -> np.ndarray:
+def render(scene: Scene2D, width: int, height: int, view=None, flip_y: bool = False) -> np.ndarray:
     """The lightmap (height, width, 3) float64, clamped to 0..1, row 0 at the top of the view."""
     world = pixel_world(view or scene.view, width, height, flip_y)
     textures = textures_for(scene)
     index = SceneIndex(scene)
     out = np.broadcast_to(np.asarray(scene.ambient, dtype=np.float64), (height * width, 3)).copy()
     for light in scene.lights:
-        contribution = light_contribution(scene, light, world, textures, samples, index)
+        contribution = light_contribution(scene, light, world, textures, index)
         if contribution is not None:
             out += contribution
     return np.clip(out, 0.0, 1.0).reshape(height, width, 3)
@@ -44,7 +46,7 @@ def blockers(scene: Scene2D, light: Light, index: SceneIndex | None = None) -> l
     return [(i, piece) for i in index.casters(light) for piece in scene.hulls[i].world_pieces()]
 
 
-def light_contribution(scene, light, world, textures, samples=64, index=None):
+def light_contribution(scene, light, world, textures, index=None):
     """Added colour (n, 3) of one light at world points (n, 2), or None when it adds nothing."""
     index = index or SceneIndex(scene)
     if not light.enabled or index.centre_blocked(light):
@@ -56,22 +58,22 @@ def light_contribution(scene, light, world, textures, samples=64, index=None):
     if scene.normal_map and light.height > 0:
         value[lit] *= normal_factor(light, world[lit], textures[scene.normal_map])[:, None]
     if light.casts_shadows:
-        value[lit] *= visibility(scene, light, world[lit], samples, index)[:, None]
+        value[lit] *= visibility(scene, light, world[lit], index)[:, None]
     return value
 
 
-def visibility(scene: Scene2D, light: Light, points: np.ndarray, samples: int = 64, index=None) -> np.ndarray:
+def visibility(scene: Scene2D, light: Light, points: np.ndarray, index=None) -> np.ndarray:
     """Visible fraction of the light's disc from each point (n,), with the hull semantics applied."""
     index = index or SceneIndex(scene)
     pieces = blockers(scene, light, index)
     touching = index.disc_touched(light)
     out = np.empty(len(points))
     for start in range(0, len(points), CHUNK):
-        out[start:start + CHUNK] = _visibility_block(light, pieces, points[start:start + CHUNK], samples, touching)
+        out[start:start + CHUNK] = _visibility_block(light, pieces, points[start:start + CHUNK], touching)
     return out
 
 
-def _visibility_block(light, pieces, points, samples, touching):
+def _visibility_block(light, pieces, points, touching):
     centre = np.asarray(light.position, dtype=np.float64)
     rel = points - centre  # light at the origin: keeps precision for coordinates near 1e6
     rel_pieces = [(h, p - centre) for h, p in pieces]
@@ -87,8 +89,8 @@ def _visibility_block(light, pieces, points, samples, touching):
     for hull_id in np.unique(owner[todo]):
         group = todo & (owner == hull_id)  # occluded hulls ignore themselves: group by containing hull
         active = [p for h, p in rel_pieces if h != hull_id or hull_id < 0]
-        if touching:  # a piece meets the disc: sample it
-            vis[group] = _sampled(rel[group], active, r, samples)
+        if touching:  # a piece meets the disc: the disc clipped by the pieces' shadows
+            vis[group] = 1.0 - hidden_share(rel[group], active, r)
         else:
             vis[group] = _exact(rel[group], active, r)
     return vis
@@ -176,9 +178,10 @@ def _ray_enters_before(points, piece, direction, limit):
     return (enter <= leave) & ~parallel_out & (enter < limit)
 
 
-def _sampled(points, pieces, r, samples):
-    """Visible fraction by stratified samples over the disc (samples x samples strata, area-uniform);
-    converges as `samples` grows. Used where a piece touches the disc."""
+def sampled(points, pieces, r, samples):
+    """Visible fraction of the disc (radius r at the origin) from points relative to its centre, by
+    stratified samples (samples x samples strata, area-uniform) and the pieces' segment tests: it
+    converges as `samples` grows, and checks the closed form used where a piece touches the disc."""
     rng = np.random.default_rng(12345)
     i, j = np.meshgrid(np.arange(samples), np.arange(samples), indexing="ij")
     rad = r * np.sqrt((i + rng.random(i.shape)) / samples)

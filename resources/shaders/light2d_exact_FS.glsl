@@ -4,47 +4,15 @@
 // area of the disc between rays at offsets u1 < u2 from its centre (in radii) is g(u2) - g(u1) with
 // g(x) = (x sqrt(1 - x^2) + asin x) / pi. The intervals of all pieces are merged before their area is
 // taken, so two hulls hiding the same half hide half (Penumbra adds them and hides all).
-// Pieces that touch the disc break the interval picture; there the disc is sampled (u_touching).
-in vec2 v_uv;
-in vec2 v_rel;                 // this pixel, relative to the light's centre
-uniform sampler2D u_pieces;    // per piece: (centre x, y, bounding radius, n + 4096 hull), n/2 texels of vertices
-uniform int u_begin;
-uniform int u_end;
-uniform float u_radius;
-uniform int u_shadow_type;     // 0 solid, 1 illuminated, 2 occluded
-uniform bool u_touching;
+// Pieces that touch the disc break the interval picture: such lights use light2d_disc_FS.glsl.
+//#INCLUDE light2d_pieces.shl
+//#INSERT light2d_pieces
 uniform bool u_outside;        // the pass runs outside every hull (a solid light's cover leaves them out)
-uniform int u_disc_samples;
-out vec4 frag_color;
-
-const float PI = 3.14159265358979;
-const float BIG = 1e30;
 const int MAX_INTERVALS = 16;
-
-vec4 fetch(int i) { return texelFetch(u_pieces, ivec2(i & 1023, i >> 10), 0); }
-int count_of(vec4 head) { return int(mod(head.w, 4096.0)); }
-int hull_of(vec4 head) { return int(head.w / 4096.0); }
-int texels_of(int n) { return (n + 1) >> 1; }  // two vertices a texel; an odd count repeats the first
-vec2 vertex_at(int base, int k) { vec4 t = fetch(base + (k >> 1)); return (k & 1) == 0 ? t.xy : t.zw; }
 
 float g(float x) {
     x = clamp(x, -1.0, 1.0);
     return (x * sqrt(max(1.0 - x * x, 0.0)) + asin(x)) / PI;
-}
-
-// The loops below walk the outline a texel (two vertices) at a time; the repeated first vertex of an
-// odd count makes an edge of length 0, which changes none of their answers.
-bool inside(vec2 p, int base, int n) {
-    int texels = texels_of(n);
-    vec2 v0 = fetch(base + texels - 1).zw;
-    for (int k = 0; k < texels; ++k) {
-        vec4 t = fetch(base + k);
-        vec2 e1 = t.xy - v0, e2 = t.zw - t.xy;
-        if (e1.x * (p.y - v0.y) - e1.y * (p.x - v0.x) < 0.0) return false;
-        if (e2.x * (p.y - t.y) - e2.y * (p.x - t.x) < 0.0) return false;
-        v0 = t.zw;
-    }
-    return true;
 }
 
 // One edge's bound on where the ray p + t d lies inside the piece (t0: entering, t1: leaving).
@@ -70,8 +38,6 @@ float enter_at(vec2 p, vec2 d, int base, int n) {
     return t0 <= t1 ? t0 : BIG;
 }
 
-float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
-
 // A cheap stand-in for the angle from `ref` to `v` (-2..2, monotonic in the angle over (-pi, pi)):
 // finding a piece's extreme vertices needs no atan.
 float pseudo_angle(vec2 ref, vec2 v) {
@@ -80,71 +46,11 @@ float pseudo_angle(vec2 ref, vec2 v) {
     return x >= 0.0 ? p : (y >= 0.0 ? 2.0 - p : -2.0 - p);
 }
 
-// Can the piece's bounding circle meet the segments from p to the disc? They all lie within
-// radius r of the segment from p to the disc's centre (the origin).
-bool may_block(vec2 p, vec4 bound, float r) {
-    float t = clamp(dot(bound.xy - p, -p) / max(dot(p, p), 1e-30), 0.0, 1.0);
-    return distance(bound.xy, p * (1.0 - t)) <= bound.z + r;
-}
-
-// From texel `i` on, the next piece worth a full test (moving `i` past it): its bounding circle contains
-// p (`containing`), or comes within `reach` of the segment from p to the light's centre and it is not
-// of hull `own`. A cheap scan, then the full test on the one found, rather than one loop doing both:
-// CPU drivers run a loop's whole body on every iteration, for every pixel, wanted or not.
-bool next_piece(inout int i, vec2 p, float reach, int own, bool containing, out vec4 head, out int base, out int n) {
-    while (i < u_end) {
-        head = fetch(i);
-        n = count_of(head);
-        base = i + 1;
-        i = base + texels_of(n);
-        if (containing ? distance(p, head.xy) <= head.z : hull_of(head) != own && may_block(p, head, reach))
-            return true;
-    }
-    return false;
-}
-
-// The hull containing p (-1 if none); solid and illuminated hulls settle the pixel at once.
-int containing_hull(vec2 p, out bool settled, out float value) {
-    settled = false;
-    int i = u_begin, base, n;
-    vec4 head;
-    while (next_piece(i, p, 0.0, -1, true, head, base, n)) {
-        if (inside(p, base, n)) {
-            if (u_shadow_type != 2) { settled = true; value = u_shadow_type == 0 ? 0.0 : 1.0; }
-            return hull_of(head);
-        }
-    }
-    return -1;
-}
-
-float sampled(vec2 p, int own) {
-    // Vogel disc: area-uniform, stratified in radius, golden-angle in angle
-    int hidden = 0;
-    for (int s = 0; s < u_disc_samples; ++s) {
-        float rr = u_radius * sqrt((float(s) + 0.5) / float(u_disc_samples));
-        float a = float(s) * 2.39996323;
-        vec2 d = rr * vec2(cos(a), sin(a)) - p;
-        int i = u_begin, base, n;
-        vec4 head;
-        while (next_piece(i, p, u_radius, own, false, head, base, n)) {
-            if (enter_at(p, d, base, n) < 1.0) { ++hidden; break; }
-        }
-    }
-    return 1.0 - float(hidden) / float(u_disc_samples);
-}
-
 float visibility(vec2 p) {
-    // inside a solid hull is dark, which the loops below find on their way (any early 0 is right);
-    // illuminated and occluded hulls need the pixel's own hull first
-    int own = -1;
-    if (u_shadow_type != 0) {
-        bool settled;
-        float value;
-        own = containing_hull(p, settled, value);
-        if (settled) return value;
-    }
+    int own;
+    float value;
+    if (settled_by_own_hull(p, own, value)) return value;
     float dist = length(p);
-    if (u_touching) return sampled(p, own);
     float r = u_radius;
     int i = u_begin, base, n;
     vec4 head;
