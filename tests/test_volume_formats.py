@@ -326,6 +326,13 @@ def test_tiff_refusals(tmp_path):
     refused(tmp_path / "inverted.tif", "MINISWHITE")
 
 
+def test_a_tiff_page_chain_that_loops_back_is_refused_not_followed_for_ever():
+    # Found by test_fuzz_volume_readers: a mutated 2-page file whose second IFD, inside the first one's entries,
+    # names itself as the next page; tifffile's `series` followed it for ever.
+    with pytest.raises(FormatError, match="not a valid TIFF file"):
+        read_volume(Path(__file__).parent / "fixtures" / "tiff_ifd_loop.tif")
+
+
 def test_nrrd_refusals(tmp_path):
     refused(write_file(tmp_path / "junk.nrrd", b"\x00" * 100), "not a NRRD file")
     refused(write_file(tmp_path / "noend.nrrd", b"NRRD0004\ntype: uchar"), "header is truncated")

@@ -269,6 +269,9 @@ def _read_tiff(path: PathLike, max_bytes: int) -> np.ndarray:
     logger.addHandler(log)
     try:
         with _open(path, max_bytes) as f, _library_errors(path, "TIFF file"), tifffile.TiffFile(f) as tif:
+            # Index the page chain first: that walk stops at an IFD pointing back into the chain (and logs it),
+            # while `series` walks it page by page without that check and loops for ever on one.
+            len(tif.pages)
             if not tif.series:
                 raise FormatError(f"{path} is not a valid TIFF file: it holds no images")
             if len(tif.series) != 1:
