@@ -7,6 +7,9 @@ from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
 from PySide6.QtGui import QImage, QMouseEvent
 from PySide6.QtWidgets import QApplication
 
+from app.bench.lighting2d import OFFVIEW_HULLS, offview_scene
+from app.model.lighting2d import Hull
+
 
 def panel(window):
     """The 2D panel (inside its scroll area)."""
@@ -156,3 +159,21 @@ def test_a_drawn_hull_turns_and_scales_about_its_centroid(window, qtbot):
     drag(qtbot, vp, pixel(window, *handle), pixel(window, hull.position[0], hull.position[1] + 40 * unit))
     assert abs(hull.rotation - math.pi / 2) < 0.1
     assert np.allclose(hull.world().mean(axis=0), hull.points.mean(axis=0), atol=unit)  # it turned in place
+
+
+def test_a_click_tests_only_the_hulls_under_it(window, qtbot, monkeypatch):
+    """A click used to test every hull of the scene (about a second with 10,000); the index answers which."""
+    open_2d(window, qtbot)
+    state = window.editor.workspaces["lighting2d"]
+    state.scene = offview_scene(OFFVIEW_HULLS)  # scene j and 10,000 hulls far outside the view
+    tested = []
+    contains = Hull.contains
+    monkeypatch.setattr(Hull, "contains", lambda hull, x, y: tested.append(hull) or contains(hull, x, y))
+    target = state.scene.hulls[0]
+    x, y = target.world()[0] + (20, 20)  # scene j's first hull is an L: just inside its corner
+    assert target.contains(x, y)
+    tested.clear()
+    window.run(f"lighting.view {x} {y} 400")
+    qtbot.mouseClick(window.viewport, Qt.MouseButton.LeftButton, pos=pixel(window, x, y))
+    assert state.selection == ("hull", 0)
+    assert 1 <= len(tested) <= 3  # scene j has three hulls, none of the far ones was looked at

@@ -142,7 +142,7 @@ class Lighting2DRenderer:
     def index(self, scene: Scene2D) -> SceneIndex:
         """The scene's index for its current version, built again only after the scene changed (the
         editor's overlay asks it for the outlines in view)."""
-        if self._index is None or self._index.version != scene.version or self._index.scene is not scene:
+        if self._index is None or not self._index.is_for(scene):
             self._index = SceneIndex(scene)
             self._index_builds += 1
             self._geometry.clear()

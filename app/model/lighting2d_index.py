@@ -37,6 +37,10 @@ class SceneIndex:
         boxes = np.array([scene.hulls[i].bounds() for i in self.outlined]).reshape(-1, 4)
         self.grid = GridIndex(boxes)
 
+    def is_for(self, scene: Scene2D) -> bool:
+        """Whether this index still answers for `scene` (the same scene, unchanged since it was built)."""
+        return self.scene is scene and self.version == scene.version
+
     def outlines_in(self, x0: float, y0: float, x1: float, y1: float) -> list[int]:
         """Indices (into scene.hulls) of hulls with an outline whose bounds meet the rectangle."""
         return self.outlined[self.grid.query(x0, y0, x1, y1)].tolist()

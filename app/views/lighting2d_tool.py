@@ -16,6 +16,7 @@ import numpy as np
 from PySide6.QtCore import Qt
 
 from app.gl.lighting2d_overlay import HANDLE_PX, ICON_PX, handles
+from app.model.lighting2d_index import SceneIndex
 from app.views.tool import ViewportTool
 
 PICK_PX = 8.0
@@ -49,6 +50,7 @@ class Lighting2DTool(ViewportTool):
         self.drawing = False
         self._drag = None      # (kind, data) of the gesture in progress
         self._moved = False
+        self._index: SceneIndex | None = None  # hulls by their bounds: a click tests only those under it
 
     @property
     def editor(self):
@@ -100,7 +102,9 @@ class Lighting2DTool(ViewportTool):
             light = scene.lights[i]
             if math.dist((x, y), light.position) <= max(light.radius, reach, ICON_PX * self._unit()):  # its icon
                 return "light", i
-        for i in reversed(range(len(scene.hulls))):
+        if self._index is None or not self._index.is_for(scene):
+            self._index = SceneIndex(scene)
+        for i in sorted(self._index.outlines_in(x, y, x, y), reverse=True):  # the topmost first
             hull = scene.hulls[i]
             if len(hull.points) >= 3 and hull.contains(x, y):
                 return "hull", i
