@@ -5,6 +5,8 @@ import pytest
 from app.bench import harness, report
 from app.bench.harness import Method, Technique
 
+SPREAD = {"ms_min", "ms_max", "gpu_ms_min", "gpu_ms_max"}  # the columns beside the medians
+
 
 def flat_grey(ctx):
     return None
@@ -36,7 +38,14 @@ def test_errors_against_reference(gl):
     assert off.max_abs_error == pytest.approx(abs(64 / 255 - 0.5), abs=1 / 255)
     assert off.rmse == pytest.approx(off.max_abs_error)  # a uniform error
     assert all(r.ms_median > 0 and r.gpu_ms_median >= 0 for r in rows)
-    assert all(r.extra["ms_min"] <= r.ms_median <= r.extra["ms_max"] for r in rows)  # the spread beside it
+    assert all(SPREAD <= r.extra.keys() for r in rows)  # the spread beside it (test_timing_spread: its values)
+
+
+def test_timing_spread_and_medians_are_those_of_the_recorded_frames():
+    timing = harness.Timing(wall=[3.0, 1.0, 2.0], gpu=[0.5, 0.25, 1.0])
+    assert timing.medians() == (2.0, 0.5)
+    assert timing.spread() == {"ms_min": 1.0, "ms_max": 3.0, "gpu_ms_min": 0.25, "gpu_ms_max": 1.0}
+    assert timing.summary().split() == ["2.00", "(1.00..3.00)", "ms"]
 
 
 def test_shape_mismatch_is_an_error():
@@ -125,4 +134,4 @@ def test_interleaved_methods_take_turns_and_keep_their_own_rows(gl):
     # each row measures its own setting's frame, though another method's was the last one timed
     assert rows[0].max_abs_error <= 1 / 255 and rows[2].max_abs_error <= 1 / 255
     assert rows[1].max_abs_error == pytest.approx(abs(64 / 255 - 0.5), abs=1 / 255)
-    assert all(r.extra["ms_min"] <= r.ms_median <= r.extra["ms_max"] for r in rows)
+    assert all(SPREAD <= r.extra.keys() for r in rows)
