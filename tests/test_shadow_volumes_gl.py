@@ -67,7 +67,7 @@ def onepass_stencils(host, geometry: VolumeGeometry, vp, orders: dict) -> dict:
     out = {}
     for name, order in orders.items():
         clear_stencil(target.fbo)
-        shadow_pass.mark(target.fbo, "onepass", VolumeGeometry(triangles[order].reshape(-1, 4), 0), vp)
+        shadow_pass.mark(target.fbo, "onepass", [VolumeGeometry(triangles[order].reshape(-1, 4), 0)], vp)
         out[name] = target.read_stencil()
     return out
 

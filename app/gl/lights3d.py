@@ -147,9 +147,10 @@ class Lights3DRenderer:
             lights = lights[:1]
         elif debug == "stencil":
             lights = [(i, light) for i, light in lights if light.shadow in VOLUME_METHODS][:1]
+        visible = set(in_view)  # ObjectBuffers hash by identity
         for index, light in lights:
             reached = [b for b in buffers if reaches(light, b.centre, b.radius)]
-            shown = [b for b in reached if any(b is v for v in in_view)]
+            shown = [b for b in reached if b in visible]
             # the pixels it can light: its reach within the objects it reaches in view
             rect = union(screen_rect(view_proj, camera.NEAR, *reach_box(light, b.lo, b.hi), fbo.size)
                          for b in shown) if light_in_view(light, planes) else None
@@ -205,9 +206,8 @@ class Lights3DRenderer:
         casters = [b for b in reached if b.casts]
         if light.shadow in VOLUME_METHODS:
             clear_stencil(target.fbo)
-            for caster in casters:
-                geometry = self.volumes.get(light.shadow, caster.obj, light)
-                stats.volume_triangles += self.volume_pass.mark(target.fbo, light.shadow, geometry, view_proj)
+            geometries = [self.volumes.get(light.shadow, caster.obj, light) for caster in casters]
+            stats.volume_triangles += self.volume_pass.mark(target.fbo, light.shadow, geometries, view_proj)
             stats.volumes_drawn += len(casters)
         elif light.shadow == "map":
             if index not in self.maps:
@@ -295,7 +295,7 @@ class Lights3DRenderer:
             geometries = [build(method, c.obj, light) for c in casters]
             built = time.perf_counter()
             clear_stencil(target.fbo)
-            triangles = sum(self.volume_pass.mark(target.fbo, method, g, view_proj) for g in geometries)
+            triangles = self.volume_pass.mark(target.fbo, method, geometries, view_proj)
             self.ctx.finish()
             done = time.perf_counter()
             mask, visibility = shadowed(method, target.read_stencil()), None

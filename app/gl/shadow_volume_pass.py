@@ -23,7 +23,7 @@ with `draw_depth` (the same vertex shader) or a shader declaring `invariant gl_P
 `u_view_proj * position`."""
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -65,6 +65,14 @@ def volume(method: str, positions, triangles, light) -> VolumeGeometry:
     return silhouette_volume(positions, triangles, light, caps=method == "zfail")
 
 
+def joined(geometries: Sequence[VolumeGeometry]) -> VolumeGeometry:
+    """Several casters' volumes as one, in their order."""
+    if len(geometries) == 1:
+        return geometries[0]
+    return VolumeGeometry(np.concatenate([g.vertices for g in geometries] or [np.empty((0, 4), np.float32)]),
+                          sum(g.extruded_edges for g in geometries))
+
+
 def shadowed(method: str, stencil: np.ndarray) -> np.ndarray:
     """Which stencil values `method` leaves in shadow."""
     _state(method)
@@ -91,23 +99,23 @@ class ShadowVolumePass:
         """The scene's depth (triangles as float32 (3 n, 4) vertices, w = 1) into `fbo`, colour untouched."""
         self._draw(fbo, vertices, view_proj, DEPTH_ONLY)
 
-    def mark(self, fbo: moderngl.Framebuffer, method: str, geometry: VolumeGeometry, view_proj: np.ndarray) -> int:
-        """Draw `geometry` into the stencil of `fbo` (bound and used by this call), in the order its triangles
-        come; returns the triangles drawn. The caller cleared the stencil."""
-        self._draw(fbo, geometry.vertices, view_proj, _state(method))
-        return geometry.triangles
+    def mark(self, fbo: moderngl.Framebuffer, method: str, geometries: Sequence[VolumeGeometry],
+             view_proj: np.ndarray) -> int:
+        """Draw the geometries into the stencil of `fbo` (bound and used by this call), one after another in the
+        order their triangles come: one upload, one draw and one stencil state for all the casters of a light.
+        Returns the triangles drawn. The caller cleared the stencil."""
+        self._draw(fbo, joined(geometries).vertices, view_proj, _state(method))
+        return sum(g.triangles for g in geometries)
 
     def shadow_mask(self, target: StencilTarget, method: str, casters: Iterable[tuple[np.ndarray, np.ndarray]],
                     light, view_proj: np.ndarray) -> ShadowMask:
         """The casters' (positions, triangles) volumes for `light`, marked in `target`'s stencil (cleared first)
         over the scene depth already in it, read back."""
         volumes = [volume(method, positions, triangles, light) for positions, triangles in casters]
-        geometry = VolumeGeometry(np.concatenate([v.vertices for v in volumes] or [np.empty((0, 4), np.float32)]),
-                                  sum(v.extruded_edges for v in volumes))
         clear_stencil(target.fbo)
-        drawn = self.mark(target.fbo, method, geometry, view_proj)
+        drawn = self.mark(target.fbo, method, volumes, view_proj)
         mask = shadowed(method, target.read_stencil()) & (target.read_depth() < 1.0)
-        return ShadowMask(mask, drawn, geometry.extruded_edges)
+        return ShadowMask(mask, drawn, sum(v.extruded_edges for v in volumes))
 
     def _draw(self, fbo: moderngl.Framebuffer, vertices: np.ndarray, view_proj: np.ndarray,
               state: StencilState) -> None:
