@@ -68,6 +68,7 @@ class BenchDock(QWidget):
         self.process: QProcess | None = None
         self.running = ""  # the technique the quick bench in progress measures
         self._cancelled = False
+        self._partial = ""  # the bench's output after its last whole line
 
     def set_status(self, text: str) -> None:
         self.status.setText(text)
@@ -113,7 +114,7 @@ class BenchDock(QWidget):
         """The bench runs in its own process (its own EGL context), the editor stays responsive."""
         if self.process is not None or self.technique not in TECHNIQUES:
             return
-        self._cancelled, self.running = False, self.technique
+        self._cancelled, self.running, self._partial = False, self.technique, ""
         self.process = QProcess(self)
         self.process.setProcessChannelMode(QProcess.ProcessChannelMode.MergedChannels)
         self.process.readyReadStandardOutput.connect(self._progress)
@@ -122,7 +123,9 @@ class BenchDock(QWidget):
         self.set_status(f"quick bench of {self.technique}: starting…")
         self.run_button.setEnabled(False)
         self.cancel_button.setVisible(True)
-        self.process.start(sys.executable, ["-m", "app", "bench", self.technique, "--quick", "--out", str(bench_dir())])
+        # -u: the child's progress lines arrive as printed, not in blocks when its stdout is a pipe
+        self.process.start(sys.executable,
+                           ["-u", "-m", "app", "bench", self.technique, "--quick", "--out", str(bench_dir())])
 
     def _start_progress(self) -> None:
         """Counted in measurements; as many as the last quick bench of this technique made, else a busy bar."""
@@ -143,7 +146,10 @@ class BenchDock(QWidget):
     def _progress(self) -> None:
         if self.process is None:  # output that came after its end
             return
-        lines = bytes(self.process.readAllStandardOutput()).decode(errors="replace").strip().splitlines()
+        # Whole lines only: a read can end mid-line, whose rest comes with the next one.
+        text = self._partial + bytes(self.process.readAllStandardOutput()).decode(errors="replace")
+        *complete, self._partial = text.split("\n")
+        lines = [line for line in complete if line.strip()]
         done = sum(1 for line in lines if MEASURED.search(line))
         if done:
             if self.progress.maximum():

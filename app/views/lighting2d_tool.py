@@ -97,14 +97,13 @@ class Lighting2DTool(ViewportTool):
 
     def _pick(self, x: float, y: float):
         scene = self.state.scene
-        reach = PICK_PX * self._unit()
         for i in reversed(range(len(scene.lights))):
             light = scene.lights[i]
-            if math.dist((x, y), light.position) <= max(light.radius, reach, ICON_PX * self._unit()):  # its icon
+            if math.dist((x, y), light.position) <= max(light.radius, ICON_PX * self._unit()):  # or its icon
                 return "light", i
         if self._index is None or not self._index.is_for(scene):
             self._index = SceneIndex(scene)
-        for i in sorted(self._index.outlines_in(x, y, x, y), reverse=True):  # the topmost first
+        for i in reversed(self._index.outlines_in(x, y, x, y)):  # ascending: the topmost last
             hull = scene.hulls[i]
             if len(hull.points) >= 3 and hull.contains(x, y):
                 return "hull", i
