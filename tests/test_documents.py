@@ -180,3 +180,23 @@ def test_a_demo_that_opens_a_bigger_scene_is_not_refused(editor, tmp_path):
     clock.advance(1)
     fresh.demos.update()
     assert not fresh.demos.playing and fresh.workspaces["snowflake"].scene.flakes[11].x == 3
+
+
+def test_a_camera_drag_hashes_no_scene_again(editor, monkeypatch):
+    """The window asks "unsaved?" after every command; a pan or an orbit changes no file, so it rehashes nothing."""
+    hashed = []
+    for name in ("lighting2d", "volume"):
+        state = editor.workspaces[name]
+        digest = type(state).document_digest
+        monkeypatch.setattr(type(state), "document_digest", lambda s, d=digest: hashed.append(s.name) or d(s))
+    assert editor.execute("workspace lighting2d") and editor.execute("light.add point 0 0")
+    assert editor.documents.modified(editor.current)
+    hashed.clear()
+    for x in range(5):
+        assert editor.execute(f"lighting.view {x} 0 400") and editor.documents.modified(editor.current)
+    assert editor.execute("workspace volume") and not editor.documents.modified(editor.current)
+    for yaw in range(5):
+        assert editor.execute(f"orbit {10 * yaw} 20") and not editor.documents.modified(editor.current)
+    assert hashed.count("lighting2d") == 0 and hashed.count("volume") <= 1
+    assert editor.execute("voxel 1 1 1 255 0 0 255") and editor.documents.modified(editor.current)
+    assert hashed.count("volume") <= 2  # hashed again once the voxels changed

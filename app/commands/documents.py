@@ -37,6 +37,17 @@ class Documents:
         self.confirm: Callable[[Workspace, str], bool] | None = None
         self.path_listeners: list[Callable[[str], None]] = []  # every file a scene is opened from or saved to
         self.changes = 0  # counts renamings: a window retitles when it moves
+        self._digests: dict[str, tuple[object, int, str]] = {}  # workspace -> (model, its version, digest)
+
+    def digest(self, state: Workspace) -> str:
+        """The workspace's document digest, kept while its document model stands unchanged."""
+        model = state.document_model()
+        if model is None:
+            return state.document_digest()
+        cached = self._digests.get(state.name)
+        if cached is None or cached[0] is not model[0] or cached[1] != model[1]:
+            cached = self._digests[state.name] = (*model, state.document_digest())
+        return cached[2]
 
     def path(self, state: Workspace) -> str | None:
         return self._documents[state.name].path
@@ -48,12 +59,12 @@ class Documents:
         return None if path is None or Path(path).is_relative_to(RESOURCES) else path
 
     def modified(self, state: Workspace) -> bool:
-        return state.files is not None and self._documents[state.name].saved != state.document_digest()
+        return state.files is not None and self._documents[state.name].saved != self.digest(state)
 
     def named(self, state: Workspace, path: str | None, recovered: bool = False) -> None:
         """The scene is now the file `path` (None: untitled), as saved, unless it was `recovered` from an autosave."""
         path = None if path is None else os.path.abspath(path)
-        self._documents[state.name] = Document(path, None if recovered else state.document_digest())
+        self._documents[state.name] = Document(path, None if recovered else self.digest(state))
         self.changes += 1
         for listener in self.path_listeners if path is not None else ():
             listener(path)
@@ -61,7 +72,7 @@ class Documents:
     def forget_changes(self) -> None:
         """Every scene as it stands counts as saved (the start-up scenes; a window closed by its owner)."""
         for state in self.workspaces:
-            self._documents[state.name] = Document(self.path(state), state.document_digest())
+            self._documents[state.name] = Document(self.path(state), self.digest(state))
         self.changes += 1
 
     def may_replace(self, state: Workspace, line: str) -> None:
@@ -138,7 +149,7 @@ class Documents:
                 file.unlink(missing_ok=True)
                 self._autosaved.pop(state.name, None)
                 continue
-            digest = state.document_digest()
+            digest = self.digest(state)
             if self._autosaved.get(state.name) != digest or not file.is_file():
                 state.files.save(str(file))
                 self._autosaved[state.name] = digest

@@ -62,6 +62,9 @@ class Lighting2DWorkspace(Workspace):
     def version(self) -> tuple:
         return self.scene.version, self.camera.key()
 
+    def document_model(self) -> tuple[object, int]:
+        return self.scene, self.scene.version
+
     def digest(self) -> dict[str, str]:
         return {"lighting2d": self.scene.digest(), "lighting2d.camera": short_hash(*self.camera.key())}
 

@@ -22,6 +22,9 @@ class SnowflakeWorkspace(Workspace):
     def version(self) -> tuple:
         return self.scene.version, self.camera.key()
 
+    def document_model(self) -> tuple[object, int]:
+        return self.scene, self.scene.version
+
     def digest(self) -> dict[str, str]:
         return {"snowflake": self.scene.digest(), "snowflake.camera": short_hash(*self.camera.key())}
 

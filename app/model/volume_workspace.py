@@ -50,7 +50,6 @@ class VolumeWorkspace(Workspace):
         self.volume = Volume(make(DEFAULT_SAMPLE))
         self.view = VolumeView()
         self.history = VolumeHistory(self)
-        self._document_digest = (None, -1, "")  # (the volume, its version, its digest)
 
     def clamp_slice(self) -> None:
         """After anything that may change the volume's shape, keep the edited slice inside it."""
@@ -65,14 +64,8 @@ class VolumeWorkspace(Workspace):
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.digest(), "volume.view": short_hash(self.view.key())}
 
-    def document_digest(self) -> str:
-        """The voxels' digest, hashed again only after they changed: the window asks after every command
-        (orbiting too), and a big volume takes a while to hash."""
-        volume, version, digest = self._document_digest
-        if volume is not self.volume or version != self.volume.version:
-            digest = self.volume.digest()
-            self._document_digest = (self.volume, self.volume.version, digest)
-        return digest
+    def document_model(self) -> tuple[object, int]:
+        return self.volume, self.volume.version  # a big volume takes a while to hash
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a

@@ -58,6 +58,11 @@ class Workspace:
         changes while it differs from the one at the last save or load, so undoing back clears them."""
         return self.digest()[self.name]
 
+    def document_model(self) -> tuple[object, int] | None:
+        """The object the scene file holds and its version, where it keeps one: the document digest is worked out
+        again only after either changes (hosts ask after every command, a camera drag too). None: every time."""
+        return None
+
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild this state from any other: a demo's opening lines. `snapshot()` saves the
         scene beside the demo and returns its path, for state too big for command lines; `snapshot(suffix)`
