@@ -114,6 +114,30 @@ def test_new_and_samples_leave_an_untitled_scene_and_volume_verbs_name_the_file(
     assert editor.workspaces["volume"].volume.data.any()
 
 
+def test_a_volume_found_elsewhere_is_the_document_saved_back_to(editor, tmp_path, user_config_dir):
+    """`load v.r3` finds the file in the user folder (or beside a running demo): the document is that file, so
+    a plain save writes there, not a new v.r3 in the working folder; scene.load and open name it the same way."""
+    user_config_dir.mkdir()
+    assert editor.execute("workspace volume") and editor.execute("sample cornell_box 16")
+    assert editor.execute(f"save {user_config_dir / 'v.r3'}")
+    assert editor.execute("scene.new")
+    for line in ("load v.r3", "scene.load v.r3", "open v.r3"):
+        assert editor.execute(line), errors(editor)
+        assert current(editor) == (str(user_config_dir / "v.r3"), False), line
+    assert editor.execute("voxel 1 1 1 255 0 0 255") and editor.execute("scene.save")
+    assert not (tmp_path / "v.r3").exists()
+    assert editor.execute("scene.new") and editor.execute(f"load {user_config_dir / 'v.r3'}")
+    assert editor.workspaces["volume"].volume.pick(1, 1, 1) == (255, 0, 0, 255)  # the edit went to that file
+    demos = tmp_path / "demos"
+    demos.mkdir()
+    assert editor.execute(f"save {demos / 'start.r3'}")
+    (demos / "opens.demo").write_text("shadelab-demo 1\n0.000 workspace volume\n0.000 load start.r3\n")
+    assert editor.execute("scene.new") and editor.execute(f"play {demos / 'opens.demo'}"), errors(editor)
+    editor.demos.clock.advance(1)
+    editor.demos.update()
+    assert not editor.demos.playing and current(editor) == (str(demos / "start.r3"), False)
+
+
 def test_replacing_asks_the_users_own_lines_and_a_cancel_changes_nothing(editor, tmp_path):
     asked = []
     answer = {"go": False}

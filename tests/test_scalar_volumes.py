@@ -4,6 +4,7 @@ brings the scalars back), malformed files change nothing, and a window change up
 from __future__ import annotations
 
 import gzip
+import tracemalloc
 
 import nrrd
 import numpy as np
@@ -17,7 +18,7 @@ from app.gl.shaders import ShaderLibrary
 from app.io.volume_formats import read_volume
 from app.model import volume as vm
 from app.model.render_modes import TraceSettings
-from app.model.volume_scalars import COLORMAPS, TransferFunction, default_window
+from app.model.volume_scalars import COLORMAPS, TransferFunction, colour, default_window
 from app.model.volume_view import VolumeView
 from app.resources import SHADERS
 
@@ -261,11 +262,86 @@ def test_a_scalar_volume_over_the_memory_limit_is_refused_before_reading(volume_
 def test_save_writes_the_scalars_where_the_format_holds_them_and_the_colours_elsewhere(volume_editor, tmp_path):
     values = phantom("int16")
     load(volume_editor, tmp_path, values, "in.npy")
-    volume_editor.execute("vol.window -1000 20; save out.nrrd; save out.r3")
+    volume_editor.execute("vol.window -1000 20; save out.nrrd; save out.npy; save out.r3")
     np.testing.assert_array_equal(read_volume(tmp_path / "out.nrrd"), values)
+    np.testing.assert_array_equal(read_volume(tmp_path / "out.npy"), values)
     np.testing.assert_array_equal(read_volume(tmp_path / "out.r3"), grey(values, -1000, 20))
     assert "the colours of window -1000..20" in infos(volume_editor)[-1]
-    assert "the int16 scalars" in infos(volume_editor)[-2]
+    assert "the int16 scalars (the window is not kept in the file; .nrrd keeps it)" in infos(volume_editor)[-2]
+    assert "the int16 scalars and their window -1000..20, grey" in infos(volume_editor)[-3]
+
+
+def test_a_scalar_volume_saved_to_nrrd_loads_again_with_its_window(volume_editor, tmp_path):
+    values = phantom("float32")
+    load(volume_editor, tmp_path, values, "in.npy")
+    assert volume_editor.execute("vol.window 0.5 9.125; vol.colormap viridis; save kept.nrrd; sample coords3d 8")
+    assert volume_editor.execute("load kept.nrrd")
+    vol = volume(volume_editor)
+    assert vol.scalars.transfer == TransferFunction(0.5, 9.125, "viridis")
+    np.testing.assert_array_equal(vol.scalars.values, values)
+    assert "window 0.5..9.125 (kept in the file), viridis" in infos(volume_editor)[-1]
+
+
+def test_an_autosaved_scalar_volume_recovers_as_scalars_with_its_window(volume_editor, tmp_path):
+    """The autosave keeps the scalars and the window (an .nrrd, not the .r3 of colours it was), so the recovered
+    volume windows again; a tampered window is refused like any malformed file, changing nothing."""
+    values = phantom("int16")
+    vol = load(volume_editor, tmp_path, values, "ct.npy")
+    assert volume_editor.execute("vol.window -990 -20; vol.colormap hot")
+    folder = tmp_path / "session"
+    assert volume_editor.documents.autosave(folder) == 1
+    assert sorted(p.name for p in folder.iterdir()) == ["autosave.json", "volume.nrrd"]
+    fresh = Editor(clock=VirtualClock(), configs=False)
+    [scene] = fresh.documents.recoverable(folder)
+    assert fresh.execute(f"recover {scene.file} {scene.original}"), errors(fresh)
+    recovered = volume(fresh)
+    np.testing.assert_array_equal(recovered.scalars.values, values)
+    assert recovered.scalars.transfer == TransferFunction(-990, -20, "hot")
+    assert fresh.digest()["volume"] == volume_editor.digest()["volume"]
+    assert fresh.documents.path(fresh.current) == str(tmp_path / "ct.npy") and fresh.documents.modified(fresh.current)
+    assert fresh.execute("vol.window 0 100") and recovered.scalars.transfer.low == 0  # still windows
+
+    tampered = (folder / "volume.nrrd").read_bytes().replace(b"-990.0 -20.0 hot", b"-20.0 -990.0 hot")
+    (folder / "volume.nrrd").write_bytes(tampered)
+    before = fresh.digest()
+    assert not fresh.execute(f"recover {scene.file} {scene.original}")
+    assert "shadelab_window field: the window's low must be below its high" in errors(fresh)[-1]
+    assert fresh.digest() == before
+
+    assert volume_editor.execute("voxel 1 1 1 255 0 0 255")  # bakes the window in: colours from now on
+    assert volume_editor.documents.autosave(folder) == 1
+    assert sorted(p.name for p in folder.iterdir()) == ["autosave.json", "volume.r3"]  # the .nrrd went
+    np.testing.assert_array_equal(read_volume(folder / "volume.r3"), vol.data)
+
+
+def test_a_load_keeps_the_values_it_read_without_a_second_copy(volume_editor, tmp_path):
+    """Loading holds the values once (the reader's array is the model's), the colours, and colouring's slabs."""
+    values = np.random.default_rng(0).integers(-1000, 1000, (128, 128, 128)).astype(np.int16)  # 4 MiB
+    np.save(tmp_path / "big.npy", values)
+    colours = np.empty(values.shape + (4,), np.uint8)
+    tracemalloc.start()
+    try:
+        colour(values, TransferFunction(-500, 500), colours)
+        slabs = tracemalloc.get_traced_memory()[1]  # colouring's own temporaries
+        tracemalloc.reset_peak()
+        assert volume_editor.execute("load big.npy")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < values.nbytes + colours.nbytes + slabs + (1 << 20)  # a second copy would add 4 MiB
+    np.testing.assert_array_equal(volume(volume_editor).scalars.values, values)
+
+
+def test_replace_scalars_copies_unless_handed_the_array():
+    vol, values = vm.Volume.new(2, 2, 2), phantom("uint16")
+    vol.replace_scalars(values)
+    assert not np.shares_memory(vol.scalars.values, values) and values.flags.writeable
+    vol.replace_scalars(values, copy=False)
+    assert np.shares_memory(vol.scalars.values, values) and not values.flags.writeable  # read-only: the model's
+    swapped = phantom("uint16").astype(">u2")
+    vol.replace_scalars(swapped, copy=False)  # the model's byte order needs a copy anyway
+    assert vol.scalars.values.dtype.isnative and swapped.flags.writeable
+    np.testing.assert_array_equal(vol.scalars.values, values)
 
 
 @pytest.mark.parametrize("dtype, window", [("int16", ""), ("float32", "vol.window 0.75 3.125")])

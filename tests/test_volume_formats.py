@@ -21,7 +21,8 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from app.io import atomic
-from app.io.volume_formats import SUPPORTED, FormatError, read_volume, write_volume
+from app.io.volume_formats import SUPPORTED, FormatError, read_volume, read_volume_file, write_volume
+from app.model.volume_scalars import TransferFunction
 
 SHAPE = (3, 7, 5)  # depth, height, width: no two sides alike, so a transposed read cannot pass
 
@@ -234,6 +235,39 @@ def test_scalars_round_trip(tmp_path, dtype, name):
     if name.endswith(".nrrd"):  # readable by others, in the same order as colour volumes
         data, header = nrrd.read(str(tmp_path / name), index_order="C")
         assert list(header["sizes"]) == [5, 7, 3] and data.dtype == values.dtype
+
+
+def test_nrrd_keeps_the_scalars_window_and_colour_map_and_the_other_formats_do_not(tmp_path):
+    values, transfer = scalar_array("float32"), TransferFunction(-0.1, 1 / 3, "bone")  # 1/3: a repr to keep exact
+    for name in ("v.nrrd", "v.npy", "v.tif"):
+        write_volume(tmp_path / name, values, transfer)
+        read = read_volume_file(tmp_path / name)
+        np.testing.assert_array_equal(read.data, values)
+        assert read.transfer == (transfer if name == "v.nrrd" else None)
+    _data, header = nrrd.read(str(tmp_path / "v.nrrd"), index_order="C")  # a key/value field others pass over
+    assert header["shadelab_window"] == "-0.1 0.3333333333333333 bone"
+    assert read_volume_file(tmp_path / "v.nrrd").transfer.high == 1 / 3
+    write_volume(tmp_path / "plain.nrrd", values)
+    assert read_volume_file(tmp_path / "plain.nrrd").transfer is None
+    with pytest.raises(FormatError, match="a window goes with scalars"):
+        write_volume(tmp_path / "rgba.nrrd", random_volume(), transfer)
+    assert not (tmp_path / "rgba.nrrd").exists()
+
+
+@pytest.mark.parametrize("field, dtype, needle", [
+    ("1 2", "int16", "must be 'low high colour-map'"),
+    ("1 2 grey x", "int16", "must be 'low high colour-map'"),
+    ("1 2 grey", "uint8", "with uint8 voxels"),
+    ("one 2 grey", "int16", "could not convert string to float"),
+    ("5 1 grey", "int16", "low must be below its high, got 5 1"),
+    ("nan 1 grey", "int16", "must be finite"),
+    ("1 2 jet", "int16", "no colour map 'jet'; choose one of grey"),
+])
+def test_a_malformed_nrrd_window_is_refused(tmp_path, field, dtype, needle):
+    path = tmp_path / "v.nrrd"
+    nrrd.write(str(path), np.zeros((2, 3, 4), dtype), {"encoding": "raw", "shadelab_window": field},
+               index_order="C")
+    refused(path, "shadelab_window", needle)
 
 
 @pytest.mark.parametrize("name", ["v.r3", "s_%i.png"])

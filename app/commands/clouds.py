@@ -64,7 +64,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
 
     # ---- files --------------------------------------------------------------------------------------
 
-    def load(path: str) -> None:
+    def load(path: str) -> str:
         try:
             scene = clouds_scene.load(path)
         except CloudSceneError as exc:
@@ -76,6 +76,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         if scene.weather_seed is not None:
             state.new_weather(weather_map(scene.weather_seed, WEATHER_SIZE), f"new {scene.weather_seed}")
         console.print(f"loaded clouds from {path}")
+        return path
 
     def save(path: str) -> None:
         source = state.weather_source.split()

@@ -57,18 +57,17 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
         load = scene_files().load
         readable = str(files.readable(console, path))
         documents.may_replace(workspaces.current, f"scene.load {shlex.quote(path)}")
-        load(readable)
-        documents.named(workspaces.current, readable)
+        documents.named(workspaces.current, load(readable))
 
     def load_in_its_workspace(path: str, line: str) -> tuple[Workspace, str]:
         """Load `path` into the workspace it belongs to (asking first if that drops unsaved changes there) and
-        switch to it; that workspace and the path read."""
+        switch to it; that workspace and the file read."""
         readable = str(files.readable(console, path))
         state = documents.owner(readable)
         documents.may_replace(state, line)
-        state.files.load(readable)
+        read = state.files.load(readable)
         workspace(state.name)
-        return state, readable
+        return state, read
 
     @reg.command("open", "path", "Open a scene or volume file in the workspace it belongs to (by its suffix, "
                  "and a JSON file's format), and switch to it",

@@ -12,7 +12,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from app.console import files
 from app.console.console import Console
 from app.console.registry import CommandError, Reported
 from app.io import autosave as autosave_file
@@ -32,7 +31,7 @@ class Documents:
     def __init__(self, console: Console, workspaces: Workspaces) -> None:
         self.console, self.workspaces = console, workspaces
         self._documents = {state.name: Document() for state in workspaces}
-        self._autosaved: dict[str, str] = {}  # workspace -> the document digest its autosave holds
+        self._autosaved: dict[str, tuple[str, Path]] = {}  # workspace -> its autosave: document digest, file
         # (workspace, the line that would drop its changes) -> go on; the window's save/discard/cancel dialog
         self.confirm: Callable[[Workspace, str], bool] | None = None
         self.path_listeners: list[Callable[[str], None]] = []  # every file a scene is opened from or saved to
@@ -109,27 +108,28 @@ class Documents:
 
     def track(self) -> None:
         """Each workspace's own verbs that replace its scene (SceneFiles.replacing) ask first and leave it
-        untitled; its own load and save verbs (SceneFiles.verbs) name the file as scene.load and scene.save do.
-        Their handlers are wrapped here, once every workspace has registered them."""
+        untitled; its own load and save verbs (SceneFiles.verbs) name the file they return, the one they read
+        or wrote, as scene.load and scene.save do. Their handlers are wrapped here, once every workspace has
+        registered them."""
         for state in self.workspaces:
             if state.files is None:
                 continue
             for verb in state.files.replacing:
-                self._wrap(state, verb, ask=True, path=lambda args: None)
+                self._wrap(state, verb, ask=True, titled=False)
             if state.files.verbs is not None:
                 load, save = state.files.verbs
-                self._wrap(state, load, ask=True, path=lambda args: args[0])
-                self._wrap(state, save, ask=False, path=lambda args: str(files.writable(self.console, args[0])))
+                self._wrap(state, load, ask=True, titled=True)
+                self._wrap(state, save, ask=False, titled=True)
 
-    def _wrap(self, state: Workspace, verb: str, ask: bool, path: Callable[[tuple], str | None]) -> None:
+    def _wrap(self, state: Workspace, verb: str, ask: bool, titled: bool) -> None:
         command = self.console.registry.resolve(f"{state.name}:{verb}", None)
         handler = command.handler
 
         def tracked(*args) -> None:
             if ask:
                 self.may_replace(state, shlex.join([verb, *map(str, args)]))
-            handler(*args)
-            self.named(state, path(args))
+            path = handler(*args)
+            self.named(state, path if titled else None)
 
         command.handler = tracked
 
@@ -144,16 +144,16 @@ class Documents:
         for state in self.workspaces:
             if state.files is None:
                 continue
-            file = folder / f"{state.name}{state.files.suffixes[0]}"
-            if not self.modified(state):
-                file.unlink(missing_ok=True)
-                self._autosaved.pop(state.name, None)
-                continue
-            digest = self.digest(state)
-            if self._autosaved.get(state.name) != digest or not file.is_file():
-                state.files.save(str(file))
-                self._autosaved[state.name] = digest
-            kept.append(Autosaved(state.name, file, self.path(state)))
+            held = self._autosaved.pop(state.name, None)
+            file = None
+            if self.modified(state):
+                file, digest = folder / f"{state.name}{state.files.keeping_suffix()}", self.digest(state)
+                if held != (digest, file) or not file.is_file():
+                    state.files.save(str(file))
+                self._autosaved[state.name] = (digest, file)
+                kept.append(Autosaved(state.name, file, self.path(state)))
+            if held is not None and held[1] != file:  # saved since, or another format keeps the scene now
+                held[1].unlink(missing_ok=True)
         autosave_file.write(folder, kept)
         return len(kept)
 

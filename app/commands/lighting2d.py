@@ -139,7 +139,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def sample(name: str) -> None:
         load(sample_path(name))
 
-    def load(path) -> None:
+    def load(path: str | Path) -> str:
         try:
             loaded = scene_file.load(path)
         except (Lighting2DError, OSError) as exc:
@@ -150,6 +150,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         state.replace(loaded)
         console.print(f"loaded {count(len(loaded.lights), 'light')} and {count(len(loaded.hulls), 'hull')} "
                       f"from {Path(path).name}")
+        return str(path)
 
     def save(path) -> None:
         cam = state.camera

@@ -99,7 +99,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
 
     # ---- files and the whole scene ------------------------------------------------------------------
 
-    def load(path: str) -> None:
+    def load(path: str) -> str:
         try:
             scene = lights3d_scene.load(path)
         except Lights3DSceneError as exc:
@@ -108,6 +108,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         state.replace(scene)
         console.print(f"loaded {count(len(scene.objects), 'object')} and {count(len(scene.lights), 'light')} "
                       f"from {path}")
+        return path
 
     state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",),
                              lights3d_scene.FORMAT, new=lambda: reset(), replacing=("lights3d.reset",))

@@ -22,7 +22,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
     scene, camera, history = state.scene, state.camera, state.history
     checks.reshaped_by("snowflake", "snow.add", "snow.remove", "snow.clear", "scene.load", "undo", "redo")
 
-    def load(path: str) -> None:
+    def load(path: str) -> str:
         try:
             flakes, level = snowflake_scene.load(path)
         except SceneError as exc:
@@ -30,6 +30,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         history.checkpoint("Load Scene")
         scene.replace(flakes, level)
         console.print(f"loaded {count(len(flakes), 'flake')} from {path}")
+        return path
 
     state.files = SceneFiles(load, lambda path: snowflake_scene.save(path, scene), (".json",),
                              snowflake_scene.FORMAT, new=lambda: clear(), replacing=("snow.clear",))

@@ -10,13 +10,15 @@ from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import CommandError, Cvar
-from app.io.volume_formats import SCALAR_SUFFIXES, SUPPORTED, FormatError, read_volume, write_volume
+from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
+                                   write_volume)
 from app.model import volume as volume_model
 from app.model.camera3d import OrbitCamera
 from app.model.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume import AXES, MAX_COORD, MAX_SIDE, Volume
 from app.model.volume_samples import SAMPLES, make
-from app.model.volume_scalars import COLORMAPS, PERCENTILES, TransferFunction, default_window, value_range
+from app.model.volume_scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
+                                      default_window, value_range)
 from app.model.volume_workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -75,18 +77,19 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     def volume() -> Volume:
         return state.volume
 
-    def replace(data, what: str, step: str) -> None:
-        """An RGBA volume, or the scalars of a 16-bit or float file, coloured through the default window, as
-        the undo step `step`."""
+    def replace(data, what: str, step: str, transfer: TransferFunction | None = None) -> None:
+        """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
+        the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over."""
         if data.ndim == 3:
-            volume().replace_scalars(data, name=step)
+            volume().replace_scalars(data, transfer, name=step, copy=False)
         else:
             volume().replace(data, step)
         state.clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
         if (scalars := volume().scalars) is not None:
-            console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} (percentiles "
-                          "{:g}..{:g} of the values above the minimum), ".format(*PERCENTILES) +
+            chosen = ("kept in the file" if transfer is not None else
+                      "percentiles {:g}..{:g} of the values above the minimum".format(*PERCENTILES))
+            console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} ({chosen}), "
                           f"{scalars.transfer.colormap}; vol.window and vol.colormap change it")
 
     def edit(change, *args, **kwargs) -> None:
@@ -109,14 +112,15 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
                  "float ones through a window)",
                  completer=volume_files)
-    def load(path: str) -> None:
+    def load(path: str) -> str:
         found = files.find(path, console) if "%" not in path else None  # a series names its slices
+        source = found or files.readable(console, path)
         try:
-            # the model's limit, before reading
-            data = read_volume(found or files.readable(console, path), max_bytes=volume_model.MAX_BYTES)
+            read = read_volume_file(source, max_bytes=volume_model.MAX_BYTES)  # the model's limit, before reading
         except FormatError as exc:
             raise CommandError(str(exc)) from None
-        replace(data, f"loaded {path}", "Load Volume")
+        replace(read.data, f"loaded {source}", "Load Volume", read.transfer)
+        return str(source)
 
     def as_scalars(path: str) -> bool:
         """A scalar volume saves its scalars in the formats that hold them, its colours in the others."""
@@ -125,14 +129,17 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     def write(path: str) -> None:
         scalars = volume().scalars
         try:
-            write_volume(path, scalars.values if as_scalars(path) else volume().data)
+            if as_scalars(path):
+                write_volume(path, scalars.values, scalars.transfer)
+            else:
+                write_volume(path, volume().data)
         except FormatError as exc:
             raise CommandError(str(exc)) from None
 
     @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically); a scalar volume "
                  "saves its scalars to .npy, .nrrd and .tif, its colours to .r3 and image series", recorded=False,
                  completer=volume_files)
-    def save(path: str) -> None:
+    def save(path: str) -> str:
         target = files.writable(console, path)
         try:
             write(target)
@@ -141,16 +148,23 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         scalars = volume().scalars
         if scalars is None:
             console.print(f"saved {target}")
+        elif target.suffix.lower() in WINDOW_SUFFIXES:
+            console.print(f"saved {target}: the {scalars.values.dtype} scalars and their window "
+                          f"{_window_text(scalars.transfer)}, {scalars.transfer.colormap}")
         elif as_scalars(target):
-            console.print(f"saved {target}: the {scalars.values.dtype} scalars (the window is not kept in the file)")
+            console.print(f"saved {target}: the {scalars.values.dtype} scalars (the window is not kept in the file; "
+                          f"{', '.join(WINDOW_SUFFIXES)} keeps it)")
         else:
             console.print(f"saved {target}: the colours of window {_window_text(scalars.transfer)} (the scalars "
                           "are not kept in the file)")
+        return str(target)
 
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
-    # scalar volume); File > New makes an empty volume of the same size
+    # scalar volume); an autosave of a scalar volume keeps its window in a .nrrd; File > New makes an empty volume
+    # of the same size
     state.files = SceneFiles(load, write, (".r3", *(s for s in SUPPORTED if s != ".r3")),
-                             new=lambda: new(*volume().size), replacing=("new", "sample"), verbs=("load", "save"))
+                             new=lambda: new(*volume().size), replacing=("new", "sample"), verbs=("load", "save"),
+                             keeping=lambda: WINDOW_SUFFIXES[0] if volume().scalars is not None else ".r3")
 
     @checks.add("sample")
     def sample_args(name: str, size: int = 64) -> tuple[str, int]:
@@ -325,9 +339,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             if low is not None:
                 raise CommandError("give the window's low and high values, or neither to show it")
             return None
-        if not low < high:
-            raise CommandError(f"the window's low must be below its high, got {low:g} {high:g}")
-        return low, high
+        return check_window(low, high)
 
     @reg.command("vol.window", "[low:float] [high:float]", "Show or set a scalar volume's window: values at low and "
                  "below are transparent, at high and above opaque, the colour map in between")
@@ -348,17 +360,13 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         low, high = default_window(scalars.values)
         volume().set_transfer(replaced(scalars.transfer, low=low, high=high))
 
-    @checks.add("vol.colormap")
-    def colormap_name(name: str) -> str:
-        if name not in COLORMAPS:
-            raise CommandError(f"no colour map {name!r}; choose one of {', '.join(COLORMAPS)}")
-        return name
+    checks.add("vol.colormap")(check_colormap)
 
     @reg.command("vol.colormap", "name", "Colour a scalar volume's window with " + ", ".join(COLORMAPS),
                  completer=lambda p: [c for c in COLORMAPS if c.startswith(p)])
     def colormap(name: str) -> None:
         scalars = volume().require_scalars()
-        volume().set_transfer(replaced(scalars.transfer, colormap=colormap_name(name)))
+        volume().set_transfer(replaced(scalars.transfer, colormap=name))  # the model checks the name
 
     checks.add("vol.background")(lambda r, g, b: _rgba(r, g, b, 255))
 

@@ -14,7 +14,7 @@ from itertools import islice
 import numpy as np
 from scipy import ndimage
 
-from app.model.volume_scalars import Scalars, TransferFunction, check_values, colour, default_window, native_copy
+from app.model.volume_scalars import Scalars, TransferFunction, check_values, colour, default_window, own_values
 
 AXES = ("x", "y", "z")
 MAX_SIDE = 4096          # voxels a side; also the largest brush
@@ -420,14 +420,15 @@ class Volume:
         self._changed(None)
 
     def replace_scalars(self, values: np.ndarray, transfer: TransferFunction | None = None,
-                        name: str = "Replace Volume") -> None:
+                        name: str = "Replace Volume", copy: bool = True) -> None:
         """Swap in a scalar volume (a loaded 16-bit or float file) as one undo step called `name`, coloured through
         `transfer` (by default the window from the values' percentiles, grey). The size is checked before anything
-        is allocated; the values are copied."""
+        is allocated; the values are copied, unless `copy` is False: then the volume keeps `values` itself (made
+        read-only), which its caller hands over (a reader's fresh array, not a second copy of it)."""
         self._settle_preview()
         d, h, w = check_values(values)
         _check_size(w, h, d, values.itemsize)
-        values = native_copy(values)
+        values = own_values(values, copy)
         scalars = Scalars(values, transfer or TransferFunction(*default_window(values)))
         data = np.empty(values.shape + (4,), np.uint8)
         colour(values, scalars.transfer, data)

@@ -46,16 +46,31 @@ class TransferFunction:
     colormap: str = "grey"
 
     def __post_init__(self) -> None:
-        for name in ("low", "high"):  # floats, so a window of whole numbers has one form (repr, digests)
-            object.__setattr__(self, name, float(getattr(self, name)))
-        if not (math.isfinite(self.low) and math.isfinite(self.high)) or self.low >= self.high:
-            raise ScalarError(f"the window needs finite low < high, got {self.low!r} .. {self.high!r}")
-        if self.colormap not in COLORMAPS:
-            raise ScalarError(f"no colour map {self.colormap!r}; choose one of {', '.join(COLORMAPS)}")
+        low, high = check_window(self.low, self.high)  # floats, so a window of whole numbers has one form (digests)
+        object.__setattr__(self, "low", low)
+        object.__setattr__(self, "high", high)
+        check_colormap(self.colormap)
 
     def table(self) -> np.ndarray:
         """(256, 4) uint8: entry i is the colour and alpha of t = i / 255."""
         return _table(self.colormap)
+
+
+def check_window(low: float, high: float) -> tuple[float, float]:
+    """(low, high) as floats, if they make a window; else ScalarError."""
+    low, high = float(low), float(high)
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise ScalarError(f"the window's low and high must be finite, got {low:g} {high:g}")
+    if low >= high:
+        raise ScalarError(f"the window's low must be below its high, got {low:g} {high:g}")
+    return low, high
+
+
+def check_colormap(name: str) -> str:
+    """`name`, if it is a colour map's; else ScalarError."""
+    if name not in COLORMAPS:
+        raise ScalarError(f"no colour map {name!r}; choose one of {', '.join(COLORMAPS)}")
+    return name
 
 
 @dataclass(frozen=True)
@@ -92,11 +107,13 @@ def check_values(values: np.ndarray) -> tuple[int, int, int]:
     return values.shape
 
 
-def native_copy(values: np.ndarray) -> np.ndarray:
-    """A read-only, C-ordered, native-endian copy: the model's own, which nobody writes to."""
-    copy = np.array(values, dtype=values.dtype.newbyteorder("="), order="C", copy=True)
-    copy.flags.writeable = False
-    return copy
+def own_values(values: np.ndarray, copy: bool = True) -> np.ndarray:
+    """The model's own values, read-only, C-ordered and native-endian, which nobody writes to: a copy, or with
+    copy=False `values` itself made read-only where it already is so laid out (a reader's fresh array)."""
+    kept = not copy and values.dtype.isnative and values.flags.c_contiguous
+    own = values if kept else np.array(values, dtype=values.dtype.newbyteorder("="), order="C")
+    own.flags.writeable = False
+    return own
 
 
 def value_range(values: np.ndarray) -> tuple[float, float]:

@@ -21,21 +21,29 @@ class History(Protocol):
 @dataclass(frozen=True)
 class SceneFiles:
     """How a workspace's scene goes to and from a file; its commands fill it in (they know the formats
-    and the file policy). `suffixes[0]` names a demo's snapshot of the scene and its autosave.
+    and the file policy). `load` returns the file it read, which names the document: a lookup may find it
+    elsewhere than as given (the volume's looks beside a running demo and in the user folder).
+    `suffixes[0]` names a demo's snapshot of the scene and its autosave, unless `keeping` says otherwise.
 
     `format`: the "format" its JSON files name, which tells them from other workspaces' JSON files (`open`).
     `new`: puts an empty (or the default) scene in place (File > New, `scene.new`).
     `replacing`: its own verbs that put another whole scene in place (samples, clear): the editor asks
     before they drop unsaved changes, and the scene is untitled after them.
     `verbs`: its own load and save verbs, if it has any besides scene.load and scene.save (the volume's
-    `load` and `save`): they name the scene's file as those do."""
-    load: Callable[[str], None]
+    `load` and `save`): they return the file they read or wrote, which names the scene's file as those do.
+    `keeping`: the suffix of a file that keeps the scene as it stands, where that depends on the scene (a scalar
+    volume's window and colour map only go into .nrrd): its autosave takes it."""
+    load: Callable[[str], str]
     save: Callable[[str], None]
     suffixes: tuple[str, ...]
     format: str | None = None
     new: Callable[[], None] | None = None
     replacing: tuple[str, ...] = ()
     verbs: tuple[str, str] | None = None
+    keeping: Callable[[], str] | None = None
+
+    def keeping_suffix(self) -> str:
+        return self.suffixes[0] if self.keeping is None else self.keeping()
 
 
 class Workspace:
