@@ -7,12 +7,14 @@ import subprocess
 import sys
 import textwrap
 
+import numpy as np
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QMessageBox
 
 from app.console.demo import VirtualClock
 from app.editor import Editor
 from app.io import snowflake_scene
+from app.io.volume_formats import read_volume_file
 from app.resources import SCENES
 from app.views.application import startup_command
 from app.views.main_window import MainWindow
@@ -214,3 +216,17 @@ def test_a_running_sessions_autosave_is_left_alone(make_window, tmp_path, monkey
     first.close()
     assert not first.autosave.folder.exists()  # a clean exit leaves nothing to recover
     assert second.autosave.folder.is_dir()
+
+
+def test_save_as_without_a_suffix_keeps_a_scalar_volume_as_nrrd(make_window, qtbot, tmp_path):
+    """Save As adds the suffix of the format that keeps the scene as it stands: a scalar volume's window goes
+    into .nrrd (.r3 would keep the colours only)."""
+    window = make_window(asks=True)
+    source = tmp_path / "ct.npy"
+    np.save(source, np.arange(8 * 8 * 8, dtype=np.int16).reshape(8, 8, 8))
+    assert window.run("workspace volume") and window.run(f"load {source}") and window.run("vol.window 10 300")
+    answer(tmp_path / "kept")
+    window.run("ui.saveas")
+    kept = read_volume_file(tmp_path / "kept.nrrd")
+    assert kept.data.dtype == np.int16 and (kept.transfer.low, kept.transfer.high) == (10.0, 300.0)
+    assert not (tmp_path / "kept.r3").exists()

@@ -122,7 +122,7 @@ class DocumentsUI(QObject):
         if not path:
             return False
         if not Path(path).suffix:
-            path += state.files.suffixes[0]
+            path += state.files.keeping_suffix()  # a scalar volume: .nrrd, which keeps its window
         return self._run_chosen(f"scene.save {shlex.quote(path)}")
 
     def _run_chosen(self, line: str) -> bool:
