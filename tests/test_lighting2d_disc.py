@@ -1,7 +1,8 @@
 """Hulls that enter the light's disc (issue 13): the reference's closed form (the disc clipped by the
-union of the pieces' shadows) against sampling the disc, and the default GPU method against the
-reference on seeded random scenes, the sample scenes k, l and m, and the degenerate cases of the closed
-form (a vertex on the circle, an edge touching it, pieces of one hull meeting at a vertex)."""
+union of the pieces' shadows) against sampling the disc, and the default GPU method (nearest piece
+first where the hulls lie apart, the shadows' union where two overlap) against the reference on seeded
+random scenes, the sample scenes k, l and m, and the degenerate cases of the closed form (a vertex on
+the circle, an edge touching it, pieces of one hull meeting at a vertex)."""
 import math
 
 import numpy as np
@@ -11,7 +12,7 @@ from app.gl.lighting2d import Lighting2DRenderer, Shading2D
 from app.gl.shaders import ShaderLibrary
 from app.io import scene2d
 from app.model.camera2d import Camera2D
-from app.model.lighting2d import Hull, Light, Scene2D, inside_convex
+from app.model.lighting2d import Hull, Light, Scene2D, inside_convex, outlines_overlap
 from app.model.lighting2d_index import SceneIndex
 from app.reference import lighting2d as reference
 from app.reference.lighting2d_disc import hidden_share
@@ -114,9 +115,24 @@ def test_the_closed_form_is_the_interval_method_where_no_piece_enters_the_disc()
 
 # ---- the default method against the reference ------------------------------------------------------
 
-@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("seed", range(12))
 def test_default_method_is_exact_on_random_scenes_with_a_hull_in_the_disc(renderer, seed):
-    assert exact_error(renderer, random_scene(seed)) <= TWO
+    scene = random_scene(seed)
+    assert exact_error(renderer, scene) <= TWO
+    apart = not outlines_overlap([scene.hulls[i].world() for i in SceneIndex(scene).casters(scene.lights[0])])
+    assert (renderer.stats.disc_ordered, renderer.stats.disc_fused) == (int(apart), int(not apart))
+
+
+@pytest.mark.parametrize("shift", [0.0, 15.0, 30.0, 45.0])
+def test_both_disc_programs_are_exact_as_a_hull_slides_into_another(renderer, shift):
+    """Apart or touching along an edge (shift 30), the pieces are taken nearest first; overlapping, the
+    shadows' union is fused: the same answer either way."""
+    scene = Scene2D(ambient=(0, 0, 0), view=(0.3, 0.7, 240), background="builtin:white",
+                    lights=[Light(position=(0, 0), scale=(300, 300), radius=35.0)],
+                    hulls=[Hull(box(10, -30, 40, 0)), Hull(box(70 - shift, -12, 100 - shift, 25))])
+    assert exact_error(renderer, scene) <= TWO
+    overlapping = shift > 30.0
+    assert (renderer.stats.disc_ordered, renderer.stats.disc_fused) == (int(not overlapping), int(overlapping))
 
 
 @pytest.mark.parametrize("name", ["k_light_wider_than_a_gap", "l_hull_through_the_disc", "m_disc_touching_two_hulls"])

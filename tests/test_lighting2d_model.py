@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from app.io import scene2d
-from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D, signed_area, validity
+from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D, outlines_overlap, signed_area, validity
 
 SQUARE = [(0, 0), (1, 0), (1, 1), (0, 1)]
 
@@ -105,3 +105,13 @@ def test_malformed_scene_files_are_refused(tmp_path, data, needle):
     path.write_text(json.dumps(data))
     with pytest.raises(Lighting2DError, match=needle):
         scene2d.load(path)
+
+
+def test_outlines_overlap_only_where_they_share_interior():
+    square = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], float)
+    assert not outlines_overlap([square, square + (1, 0)])       # an edge in common
+    assert not outlines_overlap([square, square + (1, 1)])       # a corner
+    assert not outlines_overlap([square, square + (3, 0), square + (0, 5)])
+    assert outlines_overlap([square, square + (0.5, 0.5)])
+    assert outlines_overlap([square, 0.5 * square + (0.25, 0.25)])  # one inside the other
+    assert not outlines_overlap([square]) and not outlines_overlap([])

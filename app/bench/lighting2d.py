@@ -27,7 +27,8 @@ from app.reference import lighting2d as reference
 from app.resources import SCENES, SHADERS
 
 DEFAULT = "exact"
-QUICK_SCENES = ("a_penumbra_transition", "e_antumbra", "g_overlapping_hulls", "j_concave_three_lights")
+QUICK_SCENES = (
+    "a_penumbra_transition", "e_antumbra", "g_overlapping_hulls", "j_concave_three_lights", "l_hull_through_the_disc")
 PEER_SETUPS = ((10, 10), (200, 1), (10, 200), (200, 200))
 OFFVIEW_HULLS = 10_000
 OFFVIEW_ROUNDS_PER_RUN = 80  # a few percent to tell apart on a busy machine: many short frames, interleaved

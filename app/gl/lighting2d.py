@@ -39,6 +39,8 @@ class FrameStats:
     index_boxes: int = 0        # hull boxes the scene index tested
     hulls_built: int = 0        # hulls whose geometry was (re)built for a light
     vertices_uploaded: int = 0  # rows written to the edge, triangle and region buffers
+    disc_ordered: int = 0       # lights whose disc hulls enter, apart (light2d_disc_order.shl)
+    disc_fused: int = 0         # ... and overlapping (light2d_disc.shl)
 
 
 class Lighting2DRenderer:
@@ -292,8 +294,13 @@ class Lighting2DRenderer:
 
     def _exact_pass(self, fbo, light, span, common, outside: bool) -> None:
         self._pieces.use(0)
+        name = "light2d_exact"
+        if span.geometry.touching:
+            name = "light2d_disc" if span.geometry.overlapping else "light2d_disc_order"
+            self.stats.disc_fused += span.geometry.overlapping
+            self.stats.disc_ordered += not span.geometry.overlapping
         program = self._program(
-            "light2d_disc" if span.geometry.touching else "light2d_exact", common, u_pieces=0,
+            name, common, u_pieces=0,
             u_begin=span.piece_first, u_end=span.piece_first + len(span.geometry.pieces),
             u_radius=float(light.radius), u_shadow_type=SHADOW_TYPES[light.shadow_type], u_outside=outside,
             **self._quad_uniforms(light))

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d import Light, Scene2D, outlines_overlap
 from app.model.lighting2d_index import SceneIndex
 
 # each edge becomes two triangles over the corners (end, projected): A, B, A', B, B', A'
@@ -30,6 +30,7 @@ class LightGeometry:
     heads: np.ndarray       # (pieces,) int32: each piece's header texel in `pieces`
     touching: bool          # a piece meets the emitting disc
     hull_count: int
+    overlapping: bool = False  # touching, and two of the hulls overlap (light2d_disc_order.shl needs them apart)
 
     @classmethod
     def build(cls, scene: Scene2D, index: SceneIndex, light: Light) -> "LightGeometry":
@@ -59,6 +60,8 @@ class LightGeometry:
         def cat(parts: list[np.ndarray], width: int) -> np.ndarray:
             return np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
 
-        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), np.array(heads, "i4"),
-                   index.disc_touched(light), len(hulls))
+        touching = index.disc_touched(light)
+        overlapping = touching and outlines_overlap([scene.hulls[h].world() for h in hulls if scene.hulls[h].valid])
+        return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), np.array(heads, "i4"), touching, len(hulls),
+                   overlapping)
 

@@ -88,6 +88,15 @@ def inside_convex(points: np.ndarray, piece: np.ndarray, tol: float = 0.0) -> np
     return np.all(cross >= -tol * np.hypot(e[:, 0], e[:, 1])[None, :], axis=1)
 
 
+def outlines_overlap(outlines: list[np.ndarray]) -> bool:
+    """Do two of the (valid) outlines share interior? Their union is then smaller than their areas' sum."""
+    if len(outlines) < 2:
+        return False
+    polygons = [shapely.Polygon(outline) for outline in outlines]
+    areas = shapely.area(polygons)
+    return bool(shapely.union_all(polygons).area < areas.sum() - 1e-9 * areas.max())
+
+
 def distance_to_convex(points: np.ndarray, piece: np.ndarray) -> np.ndarray:
     """Distance from each point (n, 2) to a convex counter-clockwise piece (0 inside it)."""
     e = np.roll(piece, -1, axis=0) - piece

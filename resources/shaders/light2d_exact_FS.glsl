@@ -38,14 +38,6 @@ float enter_at(vec2 p, vec2 d, int base, int n) {
     return t0 <= t1 ? t0 : BIG;
 }
 
-// A cheap stand-in for the angle from `ref` to `v` (-2..2, monotonic in the angle over (-pi, pi)):
-// finding a piece's extreme vertices needs no atan.
-float pseudo_angle(vec2 ref, vec2 v) {
-    float x = dot(ref, v), y = cross2(ref, v);
-    float p = y / (abs(x) + abs(y) + 1e-30);
-    return x >= 0.0 ? p : (y >= 0.0 ? 2.0 - p : -2.0 - p);
-}
-
 float visibility(vec2 p) {
     int own;
     float value;
