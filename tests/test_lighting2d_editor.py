@@ -9,6 +9,7 @@ from PySide6.QtWidgets import QApplication
 
 from app.bench.lighting2d import OFFVIEW_HULLS, offview_scene
 from app.model.lighting2d import Hull
+from app.model.lighting2d_index import SceneIndex
 
 
 def panel(window):
@@ -177,3 +178,23 @@ def test_a_click_tests_only_the_hulls_under_it(window, qtbot, monkeypatch):
     qtbot.mouseClick(window.viewport, Qt.MouseButton.LeftButton, pos=pixel(window, x, y))
     assert state.selection == ("hull", 0)
     assert 1 <= len(tested) <= 3  # scene j has three hulls, none of the far ones was looked at
+
+
+def test_after_an_edit_one_index_build_serves_the_frame_and_a_click(window, qtbot, monkeypatch):
+    """Broken: the tool built its own index of the scene after each edit (32 ms with 10,000 hulls) beside the
+    renderer's for the same version; now both ask the workspace's."""
+    open_2d(window, qtbot)
+    state = window.editor.workspaces["lighting2d"]
+    window.run("hull.add -20 -20 20 -20 20 20 -20 20")
+    built = []
+    init = SceneIndex.__init__
+    monkeypatch.setattr(SceneIndex, "__init__", lambda index, scene: built.append(scene.version) or init(index, scene))
+    vp = window.viewport
+    frames = vp.frames
+    window.run("hull.move 0 60 10")
+    qtbot.waitUntil(lambda: vp.frames > frames)
+    assert built == [state.scene.version]  # the frame's
+    qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, 65, 15))
+    assert state.selection == ("hull", 0)
+    qtbot.waitUntil(lambda: vp.settled())
+    assert built == [state.scene.version]  # the click asked the same index

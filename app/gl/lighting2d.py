@@ -19,7 +19,7 @@ from app.gl.vertex_arrays import VertexArrays
 from app.io.textures2d import image
 from app.model.camera2d import Camera2D
 from app.model.lighting2d import SHADOW_METHODS, Light, Scene2D, Shading2D
-from app.model.lighting2d_index import SceneIndex, light_bounds
+from app.model.lighting2d_index import SceneIndex, SceneIndexes, light_bounds
 
 METHODS = SHADOW_METHODS
 KINDS = {"point": 0, "spot": 1, "textured": 2}
@@ -47,7 +47,8 @@ class Lighting2DRenderer:
     def __init__(self, ctx: moderngl.Context, shaders) -> None:
         self.ctx = ctx
         self.shaders = shaders
-        self._index: SceneIndex | None = None
+        self._own = SceneIndexes()  # the scene's index where the host shares none
+        self._index: SceneIndex | None = None  # the index the geometry below was built with
         self._geometry: dict[int, LightGeometry] = {}
         self._quad = ctx.buffer(np.array([0, 0, 1, 0, 0, 1, 1, 1], "f4"))
         self._edges = ctx.buffer(reserve=64, dynamic=True)
@@ -55,7 +56,6 @@ class Lighting2DRenderer:
         self._regions = ctx.buffer(reserve=64, dynamic=True)
         self._pieces: moderngl.Texture | None = None
         self._batch_key = None
-        self._index_builds = 0  # tells one index from the next in the batch's key
         self._spans: dict[int, _Span] = {}
         self._quad_vaos = VertexArrays(lambda p: ctx.vertex_array(p, [(self._quad, "2f", "in_uv")]))
         self._edge_vaos = VertexArrays(
@@ -70,9 +70,9 @@ class Lighting2DRenderer:
     # ---- public -------------------------------------------------------------------------------------
 
     def render(self, fbo: moderngl.Framebuffer, scene: Scene2D, camera: Camera2D, settings: Shading2D,
-               lightmap_only: bool = False) -> FrameStats:
-        """Draw the lit scene into `fbo` (its whole viewport)."""
-        lightmap = self.build_lightmap(scene, camera, fbo.size, settings)
+               lightmap_only: bool = False, index: SceneIndex | None = None) -> FrameStats:
+        """Draw the lit scene into `fbo` (its whole viewport); `index`: see index()."""
+        lightmap = self.build_lightmap(scene, camera, fbo.size, settings, index)
         fbo.scissor = None
         _bind(fbo, ALL)
         self.ctx.disable(moderngl.BLEND)
@@ -105,10 +105,11 @@ class Lighting2DRenderer:
         texel = np.frombuffer(fbo.read(viewport=(column, row, 1, 1), components=4, dtype="f2"), "f2")
         return np.clip(texel[:3].astype(np.float64), 0.0, 1.0)
 
-    def build_lightmap(self, scene: Scene2D, camera: Camera2D, size: tuple[int, int], settings: Shading2D):
+    def build_lightmap(self, scene: Scene2D, camera: Camera2D, size: tuple[int, int], settings: Shading2D,
+                       index: SceneIndex | None = None):
         if settings.method not in METHODS:
             raise ValueError(f"unknown shadow method {settings.method!r}; there are {', '.join(METHODS)}")
-        index = self.index(scene)
+        index = self.index(scene, index)
         w, h = (max(1, round(v * settings.lightmap_scale)) for v in size)
         lightmap, fbo = self._target("lightmap", (w, h), 4, "f2", depth=True)
         fbo.scissor = None
@@ -141,19 +142,20 @@ class Lighting2DRenderer:
         self.ctx.disable(moderngl.BLEND)
         return lightmap
 
-    def index(self, scene: Scene2D) -> SceneIndex:
-        """The scene's index for its current version, built again only after the scene changed (the
-        editor's overlay asks it for the outlines in view)."""
-        if self._index is None or not self._index.is_for(scene):
-            self._index = SceneIndex(scene)
-            self._index_builds += 1
+    def index(self, scene: Scene2D, shared: SceneIndex | None = None) -> SceneIndex:
+        """The scene's index for its current version: `shared`, the one the host holds (the editor's workspace,
+        whose tool's clicks ask it too), else the renderer's own, built again only after the scene changed.
+        The lights' geometry is built again with each new index."""
+        index = shared if shared is not None else self._own.get(scene)
+        if index is not self._index:
+            self._index = index
             self._geometry.clear()
-        return self._index
+        return index
 
     def _upload_batch(self, scene: Scene2D, drawn: list[int]) -> None:
         """The geometry of every light drawn, in one buffer (and one texture) each, uploaded only when
         the scene or the set of lights in view changed; each light draws its own span."""
-        key = (self._index_builds, tuple(drawn))
+        key = (self._index, tuple(drawn))  # the index held: a new one is another object
         if key == self._batch_key:
             return
         for i in drawn:

@@ -1,9 +1,12 @@
 """Lines over the lit 2D scene: each light's icon at its centre and invalid hulls in red (always), the debug
 wireframe (hull outlines, light quads, emitting discs) and the editor's selection with its handles. Only the
-hulls in view are looked at (the scene index finds them), so hulls far away cost a frame nothing."""
+hulls and light icons in view are looked at (the scene index finds the hulls), so what lies far away costs a
+frame nothing; and the lines are built and uploaded only when the scene, the view or the selection changed, so
+a still frame (the lightmap drawn again under them) only draws them."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -37,15 +40,30 @@ def square(x: float, y: float, half: float) -> np.ndarray:
     return loop(np.array([(x - half, y - half), (x + half, y - half), (x + half, y + half), (x - half, y + half)]))
 
 
-def light_icon(x: float, y: float, unit: float) -> tuple[np.ndarray, np.ndarray]:
-    """A sun at (x, y), `unit` world units a pixel: (its lines, their dark rim), so it shows on light and dark."""
+def _icon() -> tuple[np.ndarray, np.ndarray]:
+    """A sun about (0, 0) in pixels: (its lines, their dark rim), so it shows on light and dark."""
     a = np.arange(8) * math.pi / 4
     ray = np.stack([np.cos(a), np.sin(a)], axis=1)
-    centre = np.array([x, y])
-    lines = np.concatenate([circle(x, y, 0.45 * ICON_PX * unit, 16),
-                            np.stack([centre + 0.65 * ICON_PX * unit * ray, centre + ICON_PX * unit * ray], axis=1)])
-    rim = np.concatenate([circle(x, y, (0.45 * ICON_PX - 1) * unit, 16), circle(x, y, (0.45 * ICON_PX + 1) * unit, 16)])
+    lines = np.concatenate([circle(0, 0, 0.45 * ICON_PX, 16), np.stack([0.65 * ICON_PX * ray, ICON_PX * ray], axis=1)])
+    rim = np.concatenate([circle(0, 0, 0.45 * ICON_PX - 1, 16), circle(0, 0, 0.45 * ICON_PX + 1, 16)])
     return lines, rim
+
+
+ICON_LINES, ICON_RIM = _icon()
+
+
+def light_icons(centres: np.ndarray, unit: float) -> tuple[np.ndarray, np.ndarray]:
+    """Suns at `centres` (n, 2), `unit` world units a pixel: (their lines, their rims), one icon after another."""
+    place = np.asarray(centres, dtype=np.float64).reshape(-1, 1, 1, 2)
+    return ((place + unit * ICON_LINES).reshape(-1, 2, 2), (place + unit * ICON_RIM).reshape(-1, 2, 2))
+
+
+def icons_in(scene: Scene2D, unit: float, x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    """The centres (n, 2) of the lights whose icon (rim included) meets the rectangle."""
+    centres = np.array([light.position for light in scene.lights], dtype=np.float64).reshape(-1, 2)
+    reach = (ICON_PX + 1) * unit
+    x, y = centres[:, 0], centres[:, 1]
+    return centres[(x >= x0 - reach) & (x <= x1 + reach) & (y >= y0 - reach) & (y <= y1 + reach)]
 
 
 def handles(scene: Scene2D, selection, unit: float) -> dict[str, np.ndarray]:
@@ -68,23 +86,70 @@ def handles(scene: Scene2D, selection, unit: float) -> dict[str, np.ndarray]:
             "scale": world.max(axis=0) + 2 * HANDLE_PX * unit}
 
 
-class Lighting2DOverlay:
+@dataclass
+class OverlayStats:
+    """What the overlay's last frame did: a still frame builds and uploads nothing."""
+    layers_built: int = 0       # layers (the scene's, the selection's) whose lines were built again
+    segments_uploaded: int = 0  # line segments written to the GPU
+    icons: int = 0              # light icons the frame draws (those in view)
+
+
+class _Layer:
+    """Lines of several colours in one buffer, built and uploaded again only when their key changed."""
+
     def __init__(self, ctx, shaders) -> None:
         self.lines = Lines2D(ctx, shaders)
-        self.hulls_seen = 0  # hulls the last frame looked at (those in view)
+        self.key = None
+        self.spans: list[tuple[tuple, int, int]] = []  # (colour, first segment, segments)
+
+    def update(self, key, build, camera: Camera2D, flip_y: bool, stats: OverlayStats) -> None:
+        """`build()` gives [(colour, [segments (n, 2, 2), ...]), ...], called only when `key` changed."""
+        if key == self.key:
+            return
+        groups = [(color, np.concatenate(parts)) for color, parts in build() if parts]
+        segments = np.concatenate([s for _, s in groups]) if groups else np.zeros((0, 2, 2))
+        if flip_y:  # the view is mirrored about cy
+            segments[..., 1] = 2 * camera.cy - segments[..., 1]
+        starts = np.cumsum([0] + [len(s) for _, s in groups])
+        self.spans = [(color, int(first), len(s)) for (color, s), first in zip(groups, starts)]
+        self.lines.upload(segments)
+        self.key = key
+        stats.layers_built += 1
+        stats.segments_uploaded += len(segments)
+
+    def draw(self, fbo, camera: Camera2D) -> None:
+        for color, first, count in self.spans:
+            self.lines.draw(fbo, camera, color, first, count)
+
+
+class Lighting2DOverlay:
+    def __init__(self, ctx, shaders) -> None:
+        self._scene_layer = _Layer(ctx, shaders)      # icons, invalid hulls, the wireframe
+        self._selection_layer = _Layer(ctx, shaders)  # the selection, its handles, the hull being drawn
+        self.hulls_seen = 0  # hulls the last built frame looked at (those in view)
+        self.stats = OverlayStats()
 
     def draw(self, fbo, scene: Scene2D, index: SceneIndex, camera: Camera2D, flip_y: bool, debug: bool,
              selection=None, pending=None) -> None:
-        """`index` is the scene's index for its current version (the renderer's)."""
+        """`index` is the scene's index for its current version (the renderer's): a new one means the scene
+        changed, so it keys the layers with the view."""
         unit = camera.world_per_pixel(fbo.size[1])
-        groups: list[tuple[tuple, list[np.ndarray]]] = [(INVALID, []), (WIRE, []), (LIGHT, []), (ICON_SHADE, []),
-                                                        (ICON, []), (SELECTED, [])]
-        invalid, wire, lights, rims, icons, selected = (g[1] for g in groups)
-        for light in scene.lights:
-            lines, rim = light_icon(*light.position, unit)
-            icons.append(lines)
-            rims.append(rim)
-        seen = index.outlines_in(*camera.view_rect(*fbo.size))  # the view is symmetric about cy: flip_y too
+        view = camera.view_rect(*fbo.size)  # the view is symmetric about cy: flip_y too
+        frame = (index, camera.key(), tuple(fbo.size), flip_y)
+        self.stats = OverlayStats(icons=self.stats.icons)
+        self._scene_layer.update((*frame, debug), lambda: self._scene_lines(scene, index, unit, view, debug),
+                                 camera, flip_y, self.stats)
+        self._selection_layer.update((*frame, selection, tuple(pending or ())),
+                                     lambda: self._selection_lines(scene, unit, selection, pending),
+                                     camera, flip_y, self.stats)
+        self._scene_layer.draw(fbo, camera)
+        self._selection_layer.draw(fbo, camera)
+
+    def _scene_lines(self, scene: Scene2D, index: SceneIndex, unit: float, view, debug: bool):
+        invalid, wire, lights = [], [], []
+        icons, rims = light_icons(icons_in(scene, unit, *view), unit)
+        self.stats.icons = len(icons) // len(ICON_LINES)
+        seen = index.outlines_in(*view)
         self.hulls_seen = len(seen)
         for i in seen:
             hull = scene.hulls[i]
@@ -95,6 +160,10 @@ class Lighting2DOverlay:
             for light in scene.lights:
                 lights.append(loop(light_quad(light)))
                 lights.append(circle(*light.position, max(light.radius, 3 * unit)))
+        return [(INVALID, invalid), (WIRE, wire), (LIGHT, lights), (ICON_SHADE, [rims]), (ICON, [icons])]
+
+    def _selection_lines(self, scene: Scene2D, unit: float, selection, pending):
+        selected = []
         if selection is not None and self._valid(scene, selection):
             h = handles(scene, selection, unit)
             kind, index = selection
@@ -113,14 +182,7 @@ class Lighting2DOverlay:
             if len(points) > 1:
                 selected.append(np.stack([points[:-1], points[1:]], axis=1))
             selected += [square(x, y, HANDLE_PX * unit) for x, y in points]
-        for color, parts in groups:
-            if parts:
-                segments = np.concatenate(parts)
-                if flip_y:
-                    segments = segments.copy()
-                    segments[..., 1] = 2 * camera.cy - segments[..., 1]
-                self.lines.upload(segments)
-                self.lines.draw(fbo, camera, color)
+        return [(SELECTED, selected)]
 
     @staticmethod
     def _valid(scene: Scene2D, selection) -> bool:

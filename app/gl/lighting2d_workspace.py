@@ -15,9 +15,10 @@ class Lighting2DWorkspaceRenderer(WorkspaceRendererBase):
         self.overlay = Lighting2DOverlay(ctx, shaders)
 
     def render(self, fbo, state, settings: Shading2D, interactive: bool = False) -> bool:
-        self.lighting.render(fbo, state.scene, state.camera, settings)
-        self.overlay.draw(fbo, state.scene, self.lighting.index(state.scene), state.camera, settings.flip_y,
-                          settings.debug, state.selection, state.pending)
+        index = state.index()  # the workspace's, which its tool's clicks share
+        self.lighting.render(fbo, state.scene, state.camera, settings, index=index)
+        self.overlay.draw(fbo, state.scene, index, state.camera, settings.flip_y, settings.debug, state.selection,
+                          state.pending)
         return False
 
     def value_at(self, x: float, y: float, size: tuple[int, int]):

@@ -28,12 +28,15 @@ class Lines2D:
     def uploaded(self) -> np.ndarray:
         return np.frombuffer(self.buffer.read(size=self._count * 16), "f4").reshape(-1, 2, 2).copy()
 
-    def draw(self, fbo: moderngl.Framebuffer, camera: Camera2D, color) -> None:
-        if not self._count:
+    def draw(self, fbo: moderngl.Framebuffer, camera: Camera2D, color, first: int = 0,
+             count: int | None = None) -> None:
+        """The segments uploaded (or `count` of them from `first`) in one colour."""
+        count = self._count - first if count is None else count
+        if count <= 0:
             return
         program = self.shaders.program("lines2d")
         scale, offset = camera.scale_offset(*fbo.size)
         program["u_scale"].value, program["u_offset"].value = tuple(scale), tuple(offset)
         program["u_color"].value = tuple(color)
         fbo.use()
-        self._vaos.get(program).render(moderngl.LINES, vertices=2 * self._count)
+        self._vaos.get(program).render(moderngl.LINES, vertices=2 * count, first=2 * first)

@@ -1,6 +1,7 @@
 """What the 2D renderer asks of a scene, answered once per scene version: the hulls that can cast
-into a light's reach (through a grid index), the outlines the editor's overlay draws in the view,
-each light's bounds, and whether its centre is inside a hull (then Penumbra does not draw it)."""
+into a light's reach (through a grid index), the outlines the editor's overlay draws in the view and
+the tool's clicks test, each light's bounds, and whether its centre is inside a hull (then Penumbra
+does not draw it)."""
 from __future__ import annotations
 
 import math
@@ -77,3 +78,19 @@ class SceneIndex:
         return any(distance_to_convex(centre, piece)[0] <= r
                    for i in self.hulls_in(x - r, y - r, x + r, y + r, ignored=set(light.ignored_hulls))
                    for piece in self.scene.hulls[i].world_pieces())
+
+
+class SceneIndexes:
+    """One scene's index at a time, built again only after the scene changed. The 2D workspace holds one, so
+    that its frame and its tool's clicks share each build (10,000 hulls take milliseconds to index); counting
+    the builds lets a test assert that."""
+
+    def __init__(self) -> None:
+        self._index: SceneIndex | None = None
+        self.builds = 0
+
+    def get(self, scene: Scene2D) -> SceneIndex:
+        if self._index is None or not self._index.is_for(scene):
+            self._index = SceneIndex(scene)
+            self.builds += 1
+        return self._index

@@ -8,6 +8,7 @@ from typing import Callable
 from app.model.camera2d import Camera2D
 from app.model.history import SnapshotHistory
 from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d_index import SceneIndex, SceneIndexes
 from app.model.workspace import Workspace, short_hash
 
 HISTORY_FIELDS = ("ambient", "lights", "hulls", "background", "normal_map")  # what an edit may change
@@ -42,6 +43,11 @@ class Lighting2DWorkspace(Workspace):
         self.selection: tuple[str, int] | None = None
         self.pending: list[tuple[float, float]] = []  # the points of a hull being drawn
         self.history = SnapshotHistory(self._snapshot, self._restore)
+        self.indexes = SceneIndexes()
+
+    def index(self) -> SceneIndex:
+        """The scene's index for its current version: the renderer's frame and the tool's clicks ask it alike."""
+        return self.indexes.get(self.scene)
 
     def _snapshot(self) -> dict:
         return copy.deepcopy({name: getattr(self.scene, name) for name in HISTORY_FIELDS})

@@ -16,7 +16,6 @@ import numpy as np
 from PySide6.QtCore import Qt
 
 from app.gl.lighting2d_overlay import HANDLE_PX, ICON_PX, handles
-from app.model.lighting2d_index import SceneIndex
 from app.views.tool import ViewportTool
 
 PICK_PX = 8.0
@@ -50,7 +49,6 @@ class Lighting2DTool(ViewportTool):
         self.drawing = False
         self._drag = None      # (kind, data) of the gesture in progress
         self._moved = False
-        self._index: SceneIndex | None = None  # hulls by their bounds: a click tests only those under it
 
     @property
     def editor(self):
@@ -101,9 +99,8 @@ class Lighting2DTool(ViewportTool):
             light = scene.lights[i]
             if math.dist((x, y), light.position) <= max(light.radius, ICON_PX * self._unit()):  # or its icon
                 return "light", i
-        if self._index is None or not self._index.is_for(scene):
-            self._index = SceneIndex(scene)
-        for i in reversed(self._index.outlines_in(x, y, x, y)):  # ascending: the topmost last
+        # the workspace's index (the frame's too): a click tests only the hulls whose bounds hold it
+        for i in reversed(self.state.index().outlines_in(x, y, x, y)):  # ascending: the topmost last
             hull = scene.hulls[i]
             if len(hull.points) >= 3 and hull.contains(x, y):
                 return "hull", i
