@@ -17,8 +17,8 @@ def light_vector(light: Light3D) -> np.ndarray:
 
 
 def build(method: str, obj: Object3D, light: Light3D) -> VolumeGeometry:
-    mesh = obj.mesh()
-    return volume(method, mesh.positions, mesh.triangles, light_vector(light))
+    mesh = obj.mesh()  # a caster: closed, so its adjacency (kept across moves) is there to take
+    return volume(method, mesh.positions, mesh.triangles, light_vector(light), mesh.adjacency())
 
 
 class VolumeCache:

@@ -31,6 +31,7 @@ import numpy as np
 
 from app.gl.shadow_volumes import VolumeGeometry, onepass_volume, silhouette_volume
 from app.gl.stencil import GL, StencilOps, StencilState, StencilTarget, clear_stencil, stencil_state
+from app.model.mesh3d import Adjacency
 
 PROGRAM = "shadow_volume"
 SHADOW_VALUE = 0xFC  # onepass: a depth pass and a depth fail met here (see above)
@@ -57,12 +58,13 @@ def _state(method: str) -> StencilState:
         raise ValueError(f"unknown shadow volume method {method!r}; one of {', '.join(METHODS)}") from None
 
 
-def volume(method: str, positions, triangles, light) -> VolumeGeometry:
-    """The volume `method` draws for one caster mesh and one light."""
+def volume(method: str, positions, triangles, light, adjacency: Adjacency | None = None) -> VolumeGeometry:
+    """The volume `method` draws for one caster mesh and one light; `adjacency` the mesh's, where it keeps one
+    (the silhouette methods pair the edges otherwise)."""
     _state(method)
     if method == "onepass":
         return onepass_volume(positions, triangles, light)
-    return silhouette_volume(positions, triangles, light, caps=method == "zfail")
+    return silhouette_volume(positions, triangles, light, caps=method == "zfail", adjacency=adjacency)
 
 
 def joined(geometries: Sequence[VolumeGeometry]) -> VolumeGeometry:
