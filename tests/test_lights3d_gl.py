@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 from app.gl.headless import OffscreenTarget
+from app.gl.light_reach import reaches
 from app.gl.lights3d import Lights3DRenderer
+from app.gl.lights3d_volumes import build
 from app.gl.lights3d_workspace import Lights3DWorkspaceRenderer
 from app.gl.shaders import ShaderLibrary
 from app.gl.stencil import GL
@@ -178,18 +180,35 @@ def test_meshes_volumes_and_maps_are_made_again_only_when_they_change(host):
     first = renderer.render(target.fbo, scene, CLOSE)
     assert first.uploads == 1 and first.lights_drawn == 2  # only the recoloured ground changed
     still = renderer.render(target.fbo, scene, CLOSE)
-    assert (still.uploads, still.volumes_built, still.maps_rendered) == (0, 0, 0)
+    assert (still.uploads, still.volumes_built, still.volume_bytes, still.maps_rendered) == (0, 0, 0, 0)
     assert still.volumes_drawn == 4 and still.volume_triangles > 0  # every caster within the point light's range
     turned = renderer.render(target.fbo, scene, replace(CLOSE, yaw=80.0))
-    assert (turned.uploads, turned.volumes_built, turned.maps_rendered) == (0, 0, 0)  # none depends on the view
+    assert (turned.uploads, turned.volumes_built, turned.volume_bytes, turned.maps_rendered) == (0, 0, 0, 0)
     scene = scene.with_object_moved(2, (10.0, 20.0, 5.0))
     moved = renderer.render(target.fbo, scene, CLOSE)
     assert (moved.uploads, moved.volumes_built, moved.maps_rendered) == (1, 1, 1)
     relit = renderer.render(target.fbo, scene.with_light(0, colour=(1.0, 0.5, 0.5)), CLOSE)
     assert (relit.uploads, relit.volumes_built) == (0, 0)  # a colour is no volume's business
+    recoloured = renderer.render(target.fbo, scene.with_object(2, colour=(0.1, 0.9, 0.1)), CLOSE)
+    assert (recoloured.uploads, recoloured.volumes_built, recoloured.volume_bytes) == (1, 0, 0)
     renderer.forget_shadows()
     again = renderer.render(target.fbo, scene, CLOSE)
     assert (again.volumes_built, again.maps_rendered) == (4, 1)
+
+
+@pytest.mark.parametrize("method", STENCIL_METHODS)
+def test_a_moved_light_builds_and_uploads_its_own_volumes_alone(host, method):
+    renderer, target = host
+    scene = shadowed_by(default_scene(), method)
+    renderer.render(target.fbo, scene, CLOSE)
+    assert renderer.render(target.fbo, scene, CLOSE).volume_bytes == 0
+    moved = scene.with_light(1, position=(190.0, 160.0, 10.0))
+    spot = moved.lights[1]
+    casters = [o for o in moved.objects if o.mesh().closed and reaches(spot, o.position, o.radius)]
+    stats = renderer.render(target.fbo, moved, CLOSE)
+    assert 0 < stats.volumes_built == len(casters) < stats.volumes_drawn  # the point light's kept
+    assert stats.volume_bytes == sum(build(method, o, spot).vertices.nbytes for o in casters)
+    assert renderer.render(target.fbo, moved, CLOSE).volume_bytes == 0
 
 
 def test_a_light_out_of_view_is_skipped_and_only_casters_in_reach_cast(host):

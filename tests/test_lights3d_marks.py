@@ -1,14 +1,16 @@
 """The geometry behind the 3D lights renderer's culling and marks, numpy only: a light's reach against the view
 and the objects, its box on screen, and the markers and gizmo cut at the near plane."""
 import numpy as np
+import pytest
 
 from app.gl.light_reach import frustum_planes, light_in_view, reach_box, reaches, screen_rect
-from app.gl.lights3d_overlay import AXIS_COLOURS, HIGHLIGHT, Projection, overlay_vertices
+from app.gl.lights3d_overlay import AXIS_COLOURS, HIGHLIGHT, overlay_vertices
 from app.model.lights3d import Light3D, Lights3DCamera, default_scene
+from app.model.lights3d_gizmo import Projection
 
 CAMERA = Lights3DCamera(distance=250.0)
 SIZE = (128, 96)
-VIEW = CAMERA.projection(SIZE[0] / SIZE[1]) @ CAMERA.view()
+VIEW = CAMERA.clip_from_world(SIZE)
 
 
 def test_a_point_light_behind_the_eye_or_a_spot_turned_away_is_out_of_view():
@@ -71,3 +73,13 @@ def test_a_stroke_is_cut_at_the_near_plane_and_a_mark_behind_the_eye_is_left_out
     scene = default_scene().with_light(0, position=tuple(behind))
     assert len(overlay_vertices(scene, CAMERA, SIZE, None)) < len(overlay_vertices(default_scene(), CAMERA, SIZE,
                                                                                    None))
+
+
+@pytest.mark.parametrize("pitch", [0.0, 50.0, -70.0])
+def test_a_world_length_spans_its_share_of_the_view_height_at_any_pitch(pitch):
+    """A light's stroke, and the gizmo's handles, are one share of the view's height however the camera tilts."""
+    camera = Lights3DCamera(yaw=0.0, pitch=pitch, distance=300.0)  # yaw 0: world x runs across the view
+    view = Projection(camera, SIZE)
+    length = view.world_length(camera.target, 0.1)
+    ends = view.segment(camera.target, np.add(camera.target, (length, 0.0, 0.0)))
+    assert np.linalg.norm(ends[1] - ends[0]) == pytest.approx(0.1 * SIZE[1])

@@ -126,6 +126,13 @@ def test_moved_translates_and_shares_the_topology():
         moved.positions[0, 0] = 5.0  # shared arrays are read-only
 
 
+def test_moves_share_one_adjacency_whichever_asks_first():
+    mesh = mesh3d.torus(5.0, 1.0, 12, 6)
+    first, second = mesh.moved((1.0, 0.0, 0.0)), mesh.moved((0.0, 2.0, 0.0)).moved((0.0, 0.0, 3.0))
+    adjacency = first.adjacency()  # asked of a moved copy before the mesh itself was asked
+    assert second.adjacency() is adjacency and mesh.adjacency() is adjacency
+
+
 @pytest.mark.parametrize("triangles", [100, 5_000, 100_000])
 def test_sphere_segments_reach_a_triangle_count(triangles):
     n = mesh3d.sphere_segments(triangles)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from app.gl.shadow_volumes import facing_light, onepass_volume, silhouette_volume
+from app.model import mesh3d
 from tests.shadow_scenes import box, ground
 
 UNIT_BOX = box((-1, -1, -1), (1, 1, 1))
@@ -144,3 +145,13 @@ def test_a_big_mesh_builds_whole():
     onepass = onepass_volume(positions, triangles, POINT_OFF_CORNER)
     assert onepass.triangles == 7 * len(triangles)
     assert capped.extruded_edges > 0 and capped.triangles == 2 * capped.extruded_edges + len(triangles)
+
+
+@pytest.mark.parametrize("caps", [False, True])
+def test_a_mesh_kept_adjacency_gives_the_volume_paired_here(caps):
+    mesh = mesh3d.torus(5.0, 1.5, 16, 8).moved((2.0, 1.0, -1.0))
+    for light in (POINT_OFF_CORNER, np.array([0.0, 0.5, 0.0, 1.0]), np.array([0.3, 1.0, -0.2, 0.0])):
+        kept = silhouette_volume(mesh.positions, mesh.triangles, light, caps, adjacency=mesh.adjacency())
+        paired = silhouette_volume(mesh.positions, mesh.triangles, light, caps)
+        assert kept.extruded_edges == paired.extruded_edges > 0
+        np.testing.assert_array_equal(kept.vertices, paired.vertices)

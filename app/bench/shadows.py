@@ -184,9 +184,8 @@ def caster_triangles(scene: Scene3D) -> int:
     """The closed meshes' triangles within each light's reach, summed over the lights (onepass draws 7 each)."""
     total = 0
     for obj in scene.objects:
-        mesh = obj.mesh()
-        radius = float(np.linalg.norm(mesh.positions - obj.position, axis=1).max())
-        total += sum(obj.triangles for light in scene.lights if mesh.closed and reaches(light, obj.position, radius))
+        total += sum(obj.triangles for light in scene.lights
+                     if obj.mesh().closed and reaches(light, obj.position, obj.radius))
     return total
 
 

@@ -230,12 +230,15 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     def light_set(index: int, field: str, words: list[str]) -> None:
         apply(set_light(index, field, words), setting_name("Light", field), ("light3d.set", index, field))
 
-    checks.add("light3d.move", "lights3d")(lambda index, *xyz: set_light(index, "position", list(map(repr, xyz))))
+    @checks.add("light3d.move", "lights3d")
+    def moved_light(index: int, x: float, y: float, z: float) -> Scene3D:
+        return state.scene.with_light(index, position=(x, y, z))
 
     @reg.command("light3d.move", "index:int x:float y:float z:float", "Move a light (a drag is one undo step; "
                  "as light3d.set I position)", quiet=True)
-    def light_move(index: int, *xyz: float) -> None:
-        light_set(index, "position", list(map(repr, xyz)))
+    def light_move(index: int, x: float, y: float, z: float) -> None:
+        # the undo step of light3d.set I position: a drag's moves and sets of one light's position are one
+        apply(moved_light(index, x, y, z), setting_name("Light", "position"), ("light3d.set", index, "position"))
 
     checks.add("light3d.remove", "lights3d")(lambda index: state.item("light", index))
 

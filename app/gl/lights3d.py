@@ -15,9 +15,9 @@ Every pass goes through stencil_state and blending, which put back whatever GL s
 The light formulas are app.model.lights3d's, in resources/shaders/lights3d.shl. A shadowed light (any method
 but none) reaches only faces whose geometric normal faces it, as the reference's; only closed meshes cast.
 Work follows the scene and the view: meshes upload when their object changes (lights3d_meshes.py), volumes are
-built when their caster or light changes (lights3d_volumes.py), a light whose reach lies outside the view is
-skipped, each light's passes are scissored to its reach, and only casters within a light's reach shadow it
-(app/gl/light_reach.py). `frame` counts it all.
+built and uploaded when their caster or light changes and drawn from their own buffers while they stay
+(lights3d_volumes.py), a light whose reach lies outside the view is skipped, each light's passes are scissored
+to its reach, and only casters within a light's reach shadow it (app/gl/light_reach.py). `frame` counts it all.
 """
 from __future__ import annotations
 
@@ -65,10 +65,6 @@ def light_pass_state(method: str) -> StencilState:
     return StencilState(func=func, ref=ref, write_mask=0, depth_func=GL.GL_EQUAL, colour_write=True)
 
 
-def clip_from_world(camera: OrbitCamera, size: tuple[int, int]) -> np.ndarray:
-    return camera.projection(size[0] / max(size[1], 1)) @ camera.view()
-
-
 def matrix(m: np.ndarray) -> tuple:
     """A row-major numpy matrix as GL's column-major uniform (the shadow volumes' conversion, so the two
     programs get the same float32 matrix)."""
@@ -89,7 +85,8 @@ class FrameStats:
     lights_drawn: int = 0
     lights_skipped: int = 0    # their reach outside the view, or nothing of what they reach in it
     scissor_pixels: int = 0    # the pixels of the lights drawn: their reach's box on screen, summed
-    volumes_built: int = 0     # caster volumes built (the others kept from earlier frames)
+    volumes_built: int = 0     # caster volumes built and uploaded (the others kept from earlier frames, on the GPU)
+    volume_bytes: int = 0      # volume vertices sent to the GPU: the built ones' alone
     volumes_drawn: int = 0     # caster volumes marked in the stencil, over every light
     volume_triangles: int = 0  # their triangles: the stencil's fill cost
     maps_rendered: int = 0     # shadow maps drawn (the others still held)
@@ -112,7 +109,7 @@ class Lights3DRenderer:
         self.ctx, self.shaders = ctx, shaders
         self.objects = ObjectBuffers(ctx)
         self.volume_pass = ShadowVolumePass(ctx, shaders)
-        self.volumes = VolumeCache()
+        self.volumes = VolumeCache(self.volume_pass.upload)
         self.maps: dict[int, ShadowMap] = {}  # by light index, for the lights that use one
         self.mask_map: ShadowMap | None = None  # shadow_mask's, drawn anew each time
         self.overlay = Overlay(ctx, shaders)
@@ -133,9 +130,9 @@ class Lights3DRenderer:
         drop_stale_errors()
         stats = FrameStats()
         target = self._target(fbo.size)
-        uploads, built = self.objects.uploads, self.volumes.built
+        uploads, built, sent = self.objects.uploads, self.volumes.built, self.volume_pass.uploaded_bytes
         buffers = self.objects.update(scene.objects)
-        view_proj = clip_from_world(camera, fbo.size)
+        view_proj = camera.clip_from_world(fbo.size)
         planes = frustum_planes(view_proj)
         in_view = [b for b in buffers if sphere_in_view(planes, b.centre, b.radius)]
         debug = settings.debug
@@ -173,6 +170,7 @@ class Lights3DRenderer:
             stats.overlay_triangles = self.overlay.draw(target.fbo, scene, camera, selection)
         self._copy(target, fbo)
         stats.uploads, stats.volumes_built = self.objects.uploads - uploads, self.volumes.built - built
+        stats.volume_bytes = self.volume_pass.uploaded_bytes - sent
         stats.objects_drawn = len(in_view)
         self.frame = stats
         return stats
@@ -206,8 +204,8 @@ class Lights3DRenderer:
         casters = [b for b in reached if b.casts]
         if light.shadow in VOLUME_METHODS:
             clear_stencil(target.fbo)
-            geometries = [self.volumes.get(light.shadow, caster.obj, light) for caster in casters]
-            stats.volume_triangles += self.volume_pass.mark(target.fbo, light.shadow, geometries, view_proj)
+            volumes = [self.volumes.get(light.shadow, caster.obj, light) for caster in casters]
+            stats.volume_triangles += self.volume_pass.mark_uploaded(target.fbo, light.shadow, volumes, view_proj)
             stats.volumes_drawn += len(casters)
         elif light.shadow == "map":
             if index not in self.maps:
@@ -281,7 +279,7 @@ class Lights3DRenderer:
         light = replace(scene.lights[light_index], shadow=method)
         target = self._target(size)
         buffers = self.objects.update(scene.objects)
-        view_proj = clip_from_world(camera, size)
+        view_proj = camera.clip_from_world(size)
         target.fbo.use()
         target.clear(colour=(*BACKGROUND, 1.0))
         self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)

@@ -30,15 +30,29 @@ class ObjectBuffer:
     obj: Object3D
     buffer: moderngl.Buffer
     count: int               # vertices
-    centre: np.ndarray       # the bounding sphere (the mesh is centred on the object's position)
-    radius: float
-    lo: np.ndarray           # the bounding box
-    hi: np.ndarray
     vaos: VertexArrays = field(repr=False)
 
     @property
     def mesh(self) -> Mesh:
         return self.obj.mesh()
+
+    @property
+    def centre(self) -> np.ndarray:
+        """The bounding sphere's (the mesh is centred on the object's position)."""
+        return np.asarray(self.obj.position, np.float64)
+
+    @property
+    def radius(self) -> float:
+        return self.obj.radius
+
+    @property
+    def lo(self) -> np.ndarray:
+        """The bounding box's lowest corner."""
+        return self.obj.bounds[0]
+
+    @property
+    def hi(self) -> np.ndarray:
+        return self.obj.bounds[1]
 
     @property
     def casts(self) -> bool:
@@ -70,15 +84,12 @@ class ObjectBuffers:
         return [kept[obj] for obj in objects]
 
     def _upload(self, obj: Object3D) -> ObjectBuffer:
-        mesh = obj.mesh()
-        data = vertices(mesh)
+        data = vertices(obj.mesh())
         buffer = self.ctx.buffer(data)
         self.uploads += 1
-        centre = np.asarray(obj.position, np.float64)
-        radius = float(np.linalg.norm(mesh.positions - centre, axis=1).max())
         # skip_errors: a program may leave attributes out (the depth-only ones read positions alone)
         vaos = VertexArrays(lambda program: self.ctx.vertex_array(program, [(buffer, *LAYOUT)], skip_errors=True))
-        return ObjectBuffer(obj, buffer, len(data), centre, radius, mesh.positions.min(0), mesh.positions.max(0), vaos)
+        return ObjectBuffer(obj, buffer, len(data), vaos)
 
     def release(self) -> None:
         for entry in self._by_object.values():

@@ -7,7 +7,6 @@ Geometry is built in numpy each frame (a few dozen triangles): world points proj
 cut where they cross the near plane, anything behind the eye left out."""
 from __future__ import annotations
 
-
 import numpy as np
 
 from app.gl.light_reach import box_corners
@@ -16,7 +15,7 @@ from app.gl.stencil import GL, StencilState, stencil_state
 from app.gl.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
 from app.model.lights3d import Scene3D
-from app.model.lights3d_gizmo import gizmo_axes
+from app.model.lights3d_gizmo import Projection, gizmo_axes
 
 PROGRAM = "overlay2d"
 STROKE_FRACTION = 0.06   # a light's direction stroke
@@ -26,40 +25,6 @@ OUTLINE = (0.05, 0.05, 0.05, 1.0)
 AXIS_COLOURS = ((0.95, 0.25, 0.25, 1.0), (0.3, 0.9, 0.3, 1.0), (0.35, 0.55, 1.0, 1.0))
 ON_TOP = StencilState(write_mask=0, depth_func=GL.GL_ALWAYS, colour_write=True)
 BOX_EDGES = [(a, b) for a in range(8) for b in range(8) if a < b and bin(a ^ b).count("1") == 1]
-
-
-class Projection:
-    """World points to pixels (origin top left) for one camera and view size."""
-
-    def __init__(self, camera: OrbitCamera, size: tuple[int, int]) -> None:
-        self.size, self.near = size, camera.NEAR
-        self.clip_from_world = camera.projection(size[0] / max(size[1], 1)) @ camera.view()
-
-    def clip(self, points) -> np.ndarray:
-        p = np.asarray(points, np.float64)
-        return np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ self.clip_from_world.T
-
-    def pixels(self, clip: np.ndarray) -> np.ndarray:
-        ndc = clip[..., :2] / clip[..., 3:]
-        return np.stack([(ndc[..., 0] + 1) * self.size[0] / 2, (1 - ndc[..., 1]) * self.size[1] / 2], axis=-1)
-
-    def in_front(self, point) -> bool:
-        return bool(self.clip(point)[3] > self.near)
-
-    def world_length(self, point, fraction: float) -> float:
-        """The world length at `point` that spans `fraction` of the view's height on screen."""
-        return float(fraction * 2 * self.clip(point)[3] / self.clip_from_world[1, 1])
-
-    def segment(self, a, b) -> np.ndarray | None:
-        """The pixels (2, 2) of the part of segment a-b in front of the near plane, or None."""
-        ca, cb = self.clip(a), self.clip(b)
-        wa, wb = ca[3] - self.near, cb[3] - self.near
-        if wa <= 0 and wb <= 0:
-            return None
-        if wa <= 0 or wb <= 0:
-            cut = ca + wa / (wa - wb) * (cb - ca)
-            ca, cb = (cut, cb) if wa <= 0 else (ca, cut)
-        return self.pixels(np.stack([ca, cb]))
 
 
 def quad(corners: np.ndarray, colour) -> np.ndarray:
@@ -127,8 +92,7 @@ def overlay_vertices(scene: Scene3D, camera: OrbitCamera, size: tuple[int, int],
     kind, index = selection if selection is not None else (None, None)
     parts = light_marks(scene, view, index if kind == "light" else None)
     if kind == "object":
-        mesh = scene.objects[index].mesh()
-        parts += box_marks(mesh.positions.min(0), mesh.positions.max(0), view)
+        parts += box_marks(*scene.objects[index].bounds, view)
     if kind is not None:
         item = scene.objects[index] if kind == "object" else scene.lights[index]
         parts += gizmo_marks(camera, size, item.position)

@@ -31,6 +31,8 @@ import numpy as np
 
 from app.gl.shadow_volumes import VolumeGeometry, onepass_volume, silhouette_volume
 from app.gl.stencil import GL, StencilOps, StencilState, StencilTarget, clear_stencil, stencil_state
+from app.gl.volume_buffer import VolumeBuffer
+from app.model.mesh3d import Adjacency
 
 PROGRAM = "shadow_volume"
 SHADOW_VALUE = 0xFC  # onepass: a depth pass and a depth fail met here (see above)
@@ -57,12 +59,13 @@ def _state(method: str) -> StencilState:
         raise ValueError(f"unknown shadow volume method {method!r}; one of {', '.join(METHODS)}") from None
 
 
-def volume(method: str, positions, triangles, light) -> VolumeGeometry:
-    """The volume `method` draws for one caster mesh and one light."""
+def volume(method: str, positions, triangles, light, adjacency: Adjacency | None = None) -> VolumeGeometry:
+    """The volume `method` draws for one caster mesh and one light; `adjacency` the mesh's, where it keeps one
+    (the silhouette methods pair the edges otherwise)."""
     _state(method)
     if method == "onepass":
         return onepass_volume(positions, triangles, light)
-    return silhouette_volume(positions, triangles, light, caps=method == "zfail")
+    return silhouette_volume(positions, triangles, light, caps=method == "zfail", adjacency=adjacency)
 
 
 def joined(geometries: Sequence[VolumeGeometry]) -> VolumeGeometry:
@@ -87,25 +90,45 @@ class ShadowMask:
 
 
 class ShadowVolumePass:
-    """Holds the program's vertex buffer (grown as volumes grow); programs belong to the ShaderLibrary."""
+    """Draws volumes kept on the GPU (`upload`: a caster's, drawn every frame it stays) or streamed (numpy
+    geometries, written for the one draw); programs belong to the ShaderLibrary. `uploaded_bytes` counts every
+    vertex byte sent to the GPU since made."""
 
     def __init__(self, ctx: moderngl.Context, shaders) -> None:
         self.ctx, self.shaders = ctx, shaders
-        self._buffer: moderngl.Buffer | None = None
-        self._vao: moderngl.VertexArray | None = None
-        self._vao_program: moderngl.Program | None = None
+        self._stream = VolumeBuffer(ctx)
+        self._kept_bytes = 0  # written to the uploaded volumes' buffers
+
+    @property
+    def uploaded_bytes(self) -> int:
+        return self._kept_bytes + self._stream.written_bytes
+
+    def upload(self, geometry: VolumeGeometry) -> VolumeBuffer:
+        """A buffer of its own holding `geometry` (the caller releases it)."""
+        kept = VolumeBuffer(self.ctx)
+        kept.write(geometry.vertices)
+        self._kept_bytes += kept.written_bytes
+        return kept
 
     def draw_depth(self, fbo: moderngl.Framebuffer, vertices: np.ndarray, view_proj: np.ndarray) -> None:
         """The scene's depth (triangles as float32 (3 n, 4) vertices, w = 1) into `fbo`, colour untouched."""
-        self._draw(fbo, vertices, view_proj, DEPTH_ONLY)
+        self._stream.write(vertices)
+        self._draw(fbo, [self._stream], view_proj, DEPTH_ONLY)
 
     def mark(self, fbo: moderngl.Framebuffer, method: str, geometries: Sequence[VolumeGeometry],
              view_proj: np.ndarray) -> int:
         """Draw the geometries into the stencil of `fbo` (bound and used by this call), one after another in the
         order their triangles come: one upload, one draw and one stencil state for all the casters of a light.
         Returns the triangles drawn. The caller cleared the stencil."""
-        self._draw(fbo, joined(geometries).vertices, view_proj, _state(method))
-        return sum(g.triangles for g in geometries)
+        state = _state(method)
+        self._stream.write(joined(geometries).vertices)
+        return self._draw(fbo, [self._stream], view_proj, state)
+
+    def mark_uploaded(self, fbo: moderngl.Framebuffer, method: str, volumes: Sequence[VolumeBuffer],
+                      view_proj: np.ndarray) -> int:
+        """As mark, for volumes `upload` made: nothing is sent but the matrix. Drawn in their order, one draw each
+        (GL keeps the order of primitives across draws: the stencil is mark's of the geometries joined)."""
+        return self._draw(fbo, volumes, view_proj, _state(method))
 
     def shadow_mask(self, target: StencilTarget, method: str, casters: Iterable[tuple[np.ndarray, np.ndarray]],
                     light, view_proj: np.ndarray) -> ShadowMask:
@@ -117,34 +140,19 @@ class ShadowVolumePass:
         mask = shadowed(method, target.read_stencil()) & (target.read_depth() < 1.0)
         return ShadowMask(mask, drawn, sum(v.extruded_edges for v in volumes))
 
-    def _draw(self, fbo: moderngl.Framebuffer, vertices: np.ndarray, view_proj: np.ndarray,
-              state: StencilState) -> None:
-        vertices = np.ascontiguousarray(vertices, np.float32)
-        if not len(vertices):
-            return
+    def _draw(self, fbo: moderngl.Framebuffer, buffers: Sequence[VolumeBuffer], view_proj: np.ndarray,
+              state: StencilState) -> int:
+        """Returns the triangles drawn."""
+        triangles = sum(b.triangles for b in buffers)
+        if not triangles:
+            return 0
         program = self.shaders.program(PROGRAM)
         program["u_view_proj"].value = tuple(np.asarray(view_proj, np.float64).T.flatten())
-        vao = self._vertex_array(program, vertices.nbytes)
-        self._buffer.write(vertices)
         fbo.use()  # before the state: use() re-applies the framebuffer's colour and depth masks
         with stencil_state(state):
-            vao.render(moderngl.TRIANGLES, vertices=len(vertices))
-
-    def _vertex_array(self, program: moderngl.Program, nbytes: int) -> moderngl.VertexArray:
-        if self._buffer is None or self._buffer.size < nbytes:
-            size = max(nbytes, 2 * self._buffer.size if self._buffer else 0)  # doubling: few re-allocations
-            self.release()
-            self._buffer = self.ctx.buffer(reserve=size)
-        if self._vao is None or self._vao_program is not program:  # a hot reload makes a new program
-            if self._vao is not None:
-                self._vao.release()
-            self._vao = self.ctx.vertex_array(program, [(self._buffer, "4f", "in_position")])
-            self._vao_program = program
-        return self._vao
+            for b in buffers:
+                b.render(program)
+        return triangles
 
     def release(self) -> None:
-        for obj in (self._vao, self._buffer):
-            if obj is not None:
-                obj.release()
-        self._vao = self._vao_program = None
-        self._buffer = None
+        self._stream.release()

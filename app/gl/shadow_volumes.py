@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from app.model.mesh3d import Adjacency, edge_adjacency
+
 
 @dataclass(frozen=True)
 class VolumeGeometry:
@@ -59,7 +61,10 @@ def _extruded(points: np.ndarray, light: np.ndarray) -> np.ndarray:
 def facing_light(positions, triangles, light) -> np.ndarray:
     """(T,) bool: the light is strictly on each triangle's outer side."""
     positions, triangles = _mesh(positions, triangles)
-    light = light_vector(light)
+    return _facing(positions, triangles, light_vector(light))
+
+
+def _facing(positions: np.ndarray, triangles: np.ndarray, light: np.ndarray) -> np.ndarray:
     a, b, c = (positions[triangles[:, k]] for k in range(3))
     normals = np.cross(b - a, c - a)
     # the plane (n, -n.a) against the homogeneous light
@@ -88,34 +93,21 @@ def onepass_volume(positions, triangles, light) -> VolumeGeometry:
     return VolumeGeometry(volume.reshape(-1, 4).astype(np.float32), 3 * len(triangles))
 
 
-def _edge_pairs(triangles: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each undirected edge's two directed edges (edges (3 T, 2): triangle t's edge k at 3 t + k) as index
-    arrays (first, second), or ValueError where the mesh is not a closed, consistently wound 2-manifold."""
-    edges = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=-1).reshape(-1, 2)
-    keys = edges.min(axis=1) * vertex_count + edges.max(axis=1)
-    order = np.argsort(keys, kind="stable")
-    _, counts = np.unique(keys, return_counts=True)
-    if len(edges) % 2 or (counts != 2).any():
-        raise ValueError(f"the mesh is not closed: {(counts != 2).sum()} of its {len(counts)} edges are not "
-                         "shared by exactly two triangles (silhouette volumes need closed 2-manifolds)")
-    first, second = order[0::2], order[1::2]
-    if (edges[first] != edges[second][:, ::-1]).any():
-        raise ValueError("the mesh's winding is inconsistent: two triangles run a shared edge the same way")
-    return edges, first, second
-
-
-def silhouette_volume(positions, triangles, light, caps: bool) -> VolumeGeometry:
+def silhouette_volume(positions, triangles, light, caps: bool, adjacency: Adjacency | None = None) -> VolumeGeometry:
     """Everitt & Kilgard: the quads from the silhouette edges (shared by a light-facing and a back-facing
     triangle) to infinity, plus with `caps` the light cap (the light-facing triangles) and the dark cap (the
     others, at infinity), which closes the volume for z-fail. Faces point out of the volume, so seen from
-    outside its front faces enter it. The mesh must be closed and consistently wound (else ValueError)."""
+    outside its front faces enter it. The mesh must be closed and consistently wound (else ValueError).
+    `adjacency`: the triangles' (Mesh.adjacency(), kept with the mesh), else paired here."""
     positions, triangles = _mesh(positions, triangles)
     light = light_vector(light)
-    facing = facing_light(positions, triangles, light)
-    edges, first, second = _edge_pairs(triangles, len(positions))
-    silhouette = facing[first // 3] != facing[second // 3]
-    # each silhouette edge as its light-facing triangle runs it
-    u, v = edges[np.where(facing[first // 3], first, second)[silhouette]].T
+    facing = _facing(positions, triangles, light)
+    if adjacency is None:
+        adjacency = edge_adjacency(triangles, closed=True)
+    ends = facing[adjacency.faces]  # (E, 2): whether the triangle on each side faces the light
+    silhouette = ends[:, 0] != ends[:, 1]
+    # each silhouette edge as its light-facing triangle runs it: faces[e, 0] runs edges[e], faces[e, 1] reversed
+    u, v = np.where(ends[silhouette, :1], adjacency.edges[silhouette], adjacency.edges[silhouette, ::-1]).T
     near, far = _homogeneous(positions, 1.0), _extruded(positions, light)
     parts = [_sides(near[u], near[v], far[u], far[v]).reshape(-1, 4)]
     if caps:

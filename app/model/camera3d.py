@@ -73,9 +73,13 @@ class OrbitCamera:
         m[3, 2] = -1.0
         return m
 
+    def clip_from_world(self, size: tuple[int, int]) -> np.ndarray:
+        """World -> clip (4x4, row-major) for a view `size` (width, height) pixels: the matrix ray() inverts."""
+        return self.projection(size[0] / max(size[1], 1)) @ self.view()
+
     def ray(self, px: float, py: float, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
         """World-space origin and unit direction through pixel (px, py), origin top-left."""
-        inv = np.linalg.inv(self.projection(width / max(height, 1)) @ self.view())
+        inv = np.linalg.inv(self.clip_from_world((width, height)))
         ndc = np.array([2 * px / width - 1, 1 - 2 * py / height, 1.0, 1.0])
         far = inv @ ndc
         origin = self.position()

@@ -188,6 +188,17 @@ class Object3D:
     def _world(self) -> Mesh:
         return local_mesh(self.kind, self.size).moved(self.position)
 
+    @cached_property
+    def radius(self) -> float:
+        """The bounding sphere's radius about the position (the mesh's centre)."""
+        return float(np.linalg.norm(self.mesh().positions - np.asarray(self.position), axis=1).max())
+
+    @cached_property
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The bounding box's lowest and highest corners."""
+        positions = self.mesh().positions
+        return positions.min(0), positions.max(0)
+
 
 # A new object's size where none is given (object.add), by kind.
 DEFAULT_SIZES = {"box": (30.0, 30.0, 30.0), "sphere": (15.0, 32), "torus": (20.0, 6.0, 48, 16),

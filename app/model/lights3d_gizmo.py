@@ -19,31 +19,59 @@ PARALLEL = 1e-9         # 1 - cos^2 between the mouse ray and the axis below whi
 AXES = np.identity(3)
 
 
-def _clip_from_world(camera: OrbitCamera, size: tuple[int, int]) -> np.ndarray:
-    width, height = size
-    return camera.projection(width / max(height, 1)) @ camera.view()  # the aspect OrbitCamera.ray uses
+class Projection:
+    """World points to the view's pixels (origin top left, OrbitCamera.ray's) for one camera and view size."""
+
+    def __init__(self, camera: OrbitCamera, size: tuple[int, int]) -> None:
+        self.size, self.near = size, camera.NEAR
+        self.clip_from_world = camera.clip_from_world(size)
+        # f, the projection's vertical scale: row 1 is f times the view's up row, a unit vector
+        self.scale = float(np.linalg.norm(self.clip_from_world[1, :3]))
+
+    def clip(self, points) -> np.ndarray:
+        p = np.asarray(points, np.float64)
+        return np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ self.clip_from_world.T
+
+    def pixels(self, clip: np.ndarray) -> np.ndarray:
+        """Pixels (..., 2) of clip coordinates (..., 4); meaningless where w <= 0 (behind the eye)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ndc = clip[..., :2] / clip[..., 3:]
+        return np.stack([(ndc[..., 0] + 1) * self.size[0] / 2, (1 - ndc[..., 1]) * self.size[1] / 2], axis=-1)
+
+    def in_front(self, point) -> bool:
+        """In front of the near plane (a NaN point is not)."""
+        return bool(self.clip(point)[3] > self.near)
+
+    def world_length(self, point, fraction: float) -> float:
+        """The world length at `point` that spans `fraction` of the view's height on screen: the view is
+        2 depth / f world units tall there."""
+        return float(fraction * 2 * self.clip(point)[3] / self.scale)
+
+    def segment(self, a, b) -> np.ndarray | None:
+        """The pixels (2, 2) of the part of segment a-b in front of the near plane, or None."""
+        ca, cb = self.clip(a), self.clip(b)
+        wa, wb = ca[3] - self.near, cb[3] - self.near
+        if wa <= 0 and wb <= 0:
+            return None
+        if wa <= 0 or wb <= 0:
+            cut = ca + wa / (wa - wb) * (cb - ca)
+            ca, cb = (cut, cb) if wa <= 0 else (ca, cut)
+        return self.pixels(np.stack([ca, cb]))
 
 
 def project(camera: OrbitCamera, size: tuple[int, int], points) -> tuple[np.ndarray, np.ndarray]:
     """Pixels (..., 2) of world points (..., 3), and each point's depth in front of the eye (<= 0: behind it,
     where the pixel means nothing)."""
-    p = np.asarray(points, dtype=np.float64)
-    clip = np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ _clip_from_world(camera, size).T
-    depth = clip[..., 3]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ndc = clip[..., :2] / depth[..., None]
-    width, height = size
-    return np.stack([(ndc[..., 0] + 1) * width / 2, (1 - ndc[..., 1]) * height / 2], axis=-1), depth
+    view = Projection(camera, size)
+    clip = view.clip(points)
+    return view.pixels(clip), clip[..., 3]
 
 
 def handle_length(camera: OrbitCamera, size: tuple[int, int], origin) -> float | None:
     """The handles' world length at `origin`, HANDLE_FRACTION of the view's height on screen; None when the
     origin is not in front of the near plane."""
-    _, depth = project(camera, size, origin)
-    if not depth > camera.NEAR:
-        return None
-    scale = camera.projection(size[0] / max(size[1], 1))[1, 1]  # the view is 2 depth / scale world units tall
-    return float(HANDLE_FRACTION * 2 * depth / scale)
+    view = Projection(camera, size)
+    return view.world_length(origin, HANDLE_FRACTION) if view.in_front(origin) else None
 
 
 def gizmo_axes(camera: OrbitCamera, size: tuple[int, int], origin) -> np.ndarray | None:
@@ -131,14 +159,11 @@ def pick_object(scene: Scene3D, camera: OrbitCamera, size: tuple[int, int], px: 
     eye, d = camera.ray(px, py, *size)
     best, found = np.inf, None
     for index, obj in enumerate(scene.objects):
-        mesh = obj.mesh()
-        centre = np.asarray(obj.position)
-        radius = np.linalg.norm(mesh.positions - centre, axis=1).max()
-        to_centre = centre - eye
-        along = to_centre @ d
+        to_centre = np.asarray(obj.position) - eye
+        along, radius = to_centre @ d, obj.radius
         if to_centre @ to_centre - along * along > radius * radius or along + radius < 0:
             continue
-        hit = _first_hit(mesh.corners(), eye, d)
+        hit = _first_hit(obj.mesh().corners(), eye, d)
         if hit < best:
             best, found = hit, index
     return found

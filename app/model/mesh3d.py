@@ -65,10 +65,10 @@ class Mesh:
         object.__setattr__(self, "closed", bool(self.closed))
 
     def moved(self, offset) -> Mesh:
-        """The mesh translated by `offset` (x, y, z); triangles, normals and a computed adjacency are shared."""
+        """The mesh translated by `offset` (x, y, z); triangles, normals and the adjacency are shared (the
+        adjacency is computed once for the mesh every move comes from, whichever move asks for it first)."""
         out = Mesh(self.positions + np.asarray(offset, dtype=np.float64), self.triangles, self.normals, self.closed)
-        if "_adjacency" in self.__dict__:  # the same topology: no need to build it again for each move
-            out.__dict__["_adjacency"] = self._adjacency
+        out.__dict__["_topology"] = self._topology
         return out
 
     def corners(self) -> np.ndarray:
@@ -89,7 +89,12 @@ class Mesh:
     def adjacency(self) -> Adjacency:
         """The edge adjacency (computed once); MeshError if an edge has more than two triangles, two in the same
         direction, or (on a mesh that claims to be closed) only one."""
-        return self._adjacency
+        return self._topology._adjacency
+
+    @cached_property
+    def _topology(self) -> Mesh:
+        """The mesh holding the adjacency: itself, or the one it was moved from."""
+        return self
 
     @cached_property
     def _adjacency(self) -> Adjacency:

@@ -254,7 +254,7 @@ def _cube_size(triangles: int) -> int:
 def primary_rays(camera: OrbitCamera, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
     """(origin (3,), unit directions (H*W, 3)) through the pixel centres, row 0 at the top: OrbitCamera.ray's
     unprojection, for every pixel at once."""
-    inv = np.linalg.inv(camera.projection(width / max(height, 1)) @ camera.view())
+    inv = np.linalg.inv(camera.clip_from_world((width, height)))
     py, px = np.mgrid[0:height, 0:width] + 0.5
     ndc = np.stack([2 * px / width - 1, 1 - 2 * py / height, np.ones_like(px), np.ones_like(px)], -1)
     far = ndc.reshape(-1, 4) @ inv.T
@@ -267,9 +267,8 @@ def _primary(tris: Triangles, camera: OrbitCamera, width: int, height: int):
     """(each pixel's triangle or -1, its (t, u, v), the eye, pairs tested): the nearest hit within the clip
     planes."""
     origin, dirs = primary_rays(camera, width, height)
-    view = camera.view()
-    forward = -view[2, :3]
-    clip_from_world = camera.projection(width / max(height, 1)) @ view
+    forward = -camera.view()[2, :3]
+    clip_from_world = camera.clip_from_world((width, height))
     x0, x1, y0, y1 = _pixel_rects(tris, clip_from_world, camera.NEAR, width, height)
     cells, cell_tris = _rect_cells(x0, x1, y0, y1, width, 0)
     count = width * height
