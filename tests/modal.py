@@ -13,9 +13,11 @@ def while_modal(qtbot, open_it, kind, inspect):
         if not isinstance(dialog, kind):
             QTimer.singleShot(20, look)
             return
-        qtbot.waitExposed(dialog)
-        seen.append(inspect(dialog))
-        dialog.reject()
+        try:
+            qtbot.waitExposed(dialog)
+            seen.append(inspect(dialog))
+        finally:  # a failed look must not leave the dialog's event loop running
+            dialog.reject()
     QTimer.singleShot(0, look)
     open_it()
     assert seen, f"no {kind.__name__} opened"
