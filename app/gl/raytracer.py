@@ -126,7 +126,7 @@ class RayTracer:
     def _wireframe(self, fbo: moderngl.Framebuffer, volume, cam) -> None:
         w, h = fbo.size
         program = self.shaders.program("box_edges")
-        view_proj = cam.projection(w / max(h, 1)) @ cam.view()
+        view_proj = cam.clip_from_world((w, h))
         self._set(program, {"u_view_proj": tuple(view_proj.T.flatten()), "u_color": WIREFRAME,
                             "u_extent": box_extents(volume.size)})
         fbo.use()
@@ -135,7 +135,7 @@ class RayTracer:
     def _render(self, fbo: moderngl.Framebuffer, volume, view: VolumeView, cam, settings: TraceSettings) -> None:
         mode = rm.MODES[settings.mode]
         w, h = fbo.size
-        view_proj = cam.projection(w / max(h, 1)) @ cam.view()
+        view_proj = cam.clip_from_world((w, h))
         extent = np.array(box_extents(volume.size), dtype="f4")
         uniforms = self._uniforms(volume, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())

@@ -146,7 +146,7 @@ def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: r
     """The image (height, width, 3), floats 0..1, top row first."""
     w, h = size
     scene = Scene(data, sample_range, shadow_offset)
-    inv = np.linalg.inv(camera.projection(w / h) @ camera.view())
+    inv = np.linalg.inv(camera.clip_from_world((w, h)))
     px, py = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
     ndc = np.stack([2 * px / w - 1, 1 - 2 * py / h, np.ones_like(px), np.ones_like(px)], -1).reshape(-1, 4)
     far = ndc @ inv.T
