@@ -119,8 +119,31 @@ def test_the_closed_form_is_the_interval_method_where_no_piece_enters_the_disc()
 def test_default_method_is_exact_on_random_scenes_with_a_hull_in_the_disc(renderer, seed):
     scene = random_scene(seed)
     assert exact_error(renderer, scene) <= TWO
-    apart = not outlines_overlap([scene.hulls[i].world() for i in SceneIndex(scene).casters(scene.lights[0])])
-    assert (renderer.stats.disc_ordered, renderer.stats.disc_fused) == (int(apart), int(not apart))
+    casters = [scene.hulls[i] for i in SceneIndex(scene).casters(scene.lights[0])]
+    ordered = not outlines_overlap([h.world() for h in casters]) and sum(len(h.world_pieces()) for h in casters) <= 16
+    assert (renderer.stats.disc_ordered, renderer.stats.disc_fused) == (int(ordered), int(not ordered))
+
+
+def ring(count: int, at: float = 26.0) -> Scene2D:
+    """`count` 8-unit boxes `at` from a light whose disc enters every one (a light among pillars), apart."""
+    angles = np.linspace(0.0, 2.0 * math.pi, count, endpoint=False) + 0.3
+    hulls = [Hull(box(-4, -4, 4, 4) + at * np.array([math.cos(a), math.sin(a)])) for a in angles]
+    assert not outlines_overlap([h.world() for h in hulls])
+    return Scene2D(ambient=(0, 0, 0), view=(0.3, 0.7, 240), background="builtin:white",
+                   lights=[Light(position=(0, 0), scale=(300, 300), radius=at + 4.0)], hulls=hulls)
+
+
+@pytest.mark.parametrize("count", [9, 12])
+def test_a_light_among_many_pillars_is_exact(renderer, count):
+    """Every pillar in the disc: the circle is crossed 2 * count times, more than the fused program's 12."""
+    assert exact_error(renderer, ring(count)) <= TWO
+    assert renderer.stats.disc_ordered == 1
+
+
+def test_a_light_of_more_pieces_than_the_ordered_program_holds_takes_the_fused_one(renderer):
+    """Two intervals a piece at most (one across the cut behind a pixel in the disc): 32 slots hold 16 pieces."""
+    renderer.read_lightmap(ring(17, at=40.0), Camera2D(0, 0, 240), (64, 40), Shading2D(method="exact"))
+    assert (renderer.stats.disc_ordered, renderer.stats.disc_fused) == (0, 1)
 
 
 @pytest.mark.parametrize("shift", [0.0, 15.0, 30.0, 45.0])

@@ -23,6 +23,7 @@ from app.model.lighting2d_index import SceneIndex, SceneIndexes, light_bounds
 
 METHODS = SHADOW_METHODS
 KINDS = {"point": 0, "spot": 1, "textured": 2}
+ORDERED_PIECES = 16  # light2d_disc_order.shl holds 32 intervals a pixel, two a piece at most
 SHADOW_TYPES = {"solid": 0, "illuminated": 1, "occluded": 2}
 ALPHA = (False, False, False, True)
 ALL = (True, True, True, True)
@@ -39,8 +40,8 @@ class FrameStats:
     index_boxes: int = 0        # hull boxes the scene index tested
     hulls_built: int = 0        # hulls whose geometry was (re)built for a light
     vertices_uploaded: int = 0  # rows written to the edge, triangle and region buffers
-    disc_ordered: int = 0       # lights whose disc hulls enter, apart (light2d_disc_order.shl)
-    disc_fused: int = 0         # ... and overlapping (light2d_disc.shl)
+    disc_ordered: int = 0       # lights whose disc hulls enter, apart, of few pieces (light2d_disc_order.shl)
+    disc_fused: int = 0         # ... overlapping or of more pieces (light2d_disc.shl)
 
 
 class Lighting2DRenderer:
@@ -298,9 +299,10 @@ class Lighting2DRenderer:
         self._pieces.use(0)
         name = "light2d_exact"
         if span.geometry.touching:
-            name = "light2d_disc" if span.geometry.overlapping else "light2d_disc_order"
-            self.stats.disc_fused += span.geometry.overlapping
-            self.stats.disc_ordered += not span.geometry.overlapping
+            ordered = not span.geometry.overlapping and len(span.geometry.heads) <= ORDERED_PIECES
+            name = "light2d_disc_order" if ordered else "light2d_disc"
+            self.stats.disc_ordered += ordered
+            self.stats.disc_fused += not ordered
         program = self._program(
             name, common, u_pieces=0,
             u_begin=span.piece_first, u_end=span.piece_first + len(span.geometry.pieces),
