@@ -11,11 +11,12 @@ from pathlib import Path
 
 import pyqtgraph as pg
 from PySide6.QtCore import QProcess, Qt
-from PySide6.QtWidgets import (QFileDialog, QHBoxLayout, QLabel, QProgressBar, QPushButton, QSizePolicy,
+from PySide6.QtWidgets import (QFileDialog, QLabel, QProgressBar, QPushButton, QSizePolicy,
                                QStackedWidget, QVBoxLayout, QWidget)
 
 from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE, report
 from app.io.cache import cache_root
+from app.views.form_widgets import left_row
 
 # a line of the bench's output that reports one measurement (a CSV row): "... 12.34 ms  rmse ..." (or "mean"
 # for the clouds' CPU rows)
@@ -55,13 +56,9 @@ class BenchDock(QWidget):
         self.cancel_button.clicked.connect(self.cancel)
         open_button = QPushButton("Open CSV…")
         open_button.clicked.connect(self._open)
-        buttons = QHBoxLayout()
-        for button in (self.run_button, self.cancel_button, open_button):
-            buttons.addWidget(button)
-        buttons.addStretch(1)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
-        layout.addLayout(buttons)
+        layout.addLayout(left_row(self.run_button, self.cancel_button, open_button))
         layout.addWidget(self.progress)
         layout.addWidget(self.status)
         layout.addWidget(self.pages, 1)

@@ -1,15 +1,24 @@
-"""Widgets the workspace panels share: number spin boxes that report only finished edits, and a colour button
-that opens QColorDialog."""
+"""Widgets the workspace panels share: number spin boxes that report only finished edits, a colour button
+that opens QColorDialog, and a row of widgets kept to the left."""
 from __future__ import annotations
 
 from PySide6.QtGui import QColor
-from PySide6.QtWidgets import QColorDialog, QDoubleSpinBox, QPushButton
+from PySide6.QtWidgets import QColorDialog, QDoubleSpinBox, QHBoxLayout, QPushButton, QWidget
 
 
 def spin(lo: float, hi: float, step: float, decimals: int = 2) -> QDoubleSpinBox:
     box = QDoubleSpinBox(minimum=lo, maximum=hi, singleStep=step, decimals=decimals)
     box.setKeyboardTracking(False)  # one command per finished edit, not per digit typed
     return box
+
+
+def left_row(*widgets: QWidget) -> QHBoxLayout:
+    """The widgets side by side at their own widths, the spare room after them."""
+    row = QHBoxLayout()
+    for widget in widgets:
+        row.addWidget(widget)
+    row.addStretch(1)
+    return row
 
 
 def rgb_words(color) -> str:

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import math
 
-from PySide6.QtWidgets import QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton, QVBoxLayout
+from PySide6.QtWidgets import QComboBox, QGroupBox, QLabel, QPushButton, QVBoxLayout
 
 from app.model.volume_scalars import COLORMAPS, value_range
-from app.views.form_widgets import spin
+from app.views.form_widgets import left_row, spin
 
 NO_SCALARS = ("no scalars to window: load a 16-bit or float NRRD, TIFF or .npy file (an edit bakes a scalar "
               "volume's window in; undo it to window again)")
@@ -31,13 +31,9 @@ class TransferPanel(QGroupBox):
         self.colormap = QComboBox(toolTip="The colour map across the window")
         self.colormap.addItems(COLORMAPS)
         self.info = QLabel(wordWrap=True)
-        row = QHBoxLayout()
-        for widget in (QLabel("window"), self.low, QLabel("to"), self.high, self.auto, self.colormap):
-            row.addWidget(widget)
-        row.addStretch(1)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
-        layout.addLayout(row)
+        layout.addLayout(left_row(QLabel("window"), self.low, QLabel("to"), self.high, self.auto, self.colormap))
         layout.addWidget(self.info)
         # The box not edited sends the model's own value: a spin box shows it rounded to its decimals.
         self.low.valueChanged.connect(lambda v: self._send(f"vol.window {number(v)} {number(self._transfer.high)}"))
