@@ -180,18 +180,13 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
     try:
         if tech.interleave:
             prepared = [prepare(method) for method in tech.methods]
-            timings: dict[tuple, Timing] = {}
-            for scene_name in scene_names:
+            for scene_name in scene_names:  # a scene's rows as soon as it is timed: the dock's progress moves
                 progress(f"{scene_name}: every method's frames in turn, {runs} rounds")
                 draws = {(k, value): draw(method, p, scene_name, value)
                          for k, (method, p) in enumerate(zip(tech.methods, prepared)) for value in p.values}
-                timings.update({(k, scene_name, value): timing
-                                for (k, value), timing in frame_timings(ctx, draws, runs).items()})
-            for k, (method, p) in enumerate(zip(tech.methods, prepared)):
-                for scene_name in scene_names:
-                    for value in p.values:
-                        draw(method, p, scene_name, value)()  # the target holds another method's frame by now
-                        rows.append(row(method, p, scene_name, value, timings[(k, scene_name, value)]))
+                for (k, value), timing in frame_timings(ctx, draws, runs).items():
+                    draws[(k, value)]()  # the target holds another method's frame by now
+                    rows.append(row(tech.methods[k], prepared[k], scene_name, value, timing))
         else:
             for method in tech.methods:
                 p = prepare(method)

@@ -85,9 +85,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
             raise CommandError(f"no hull {index}; there are {len(scene().hulls)}")
         return scene().hulls[index]
 
-    def edit(name: str, key=None):
-        """Snapshot for undo before an edit called `name`; a run of edits with the same key (a drag) is one step."""
-        history.checkpoint(name, key)
+    edit = history.checkpoint  # undo's snapshot before an edit; one key for a run of edits (a drag): one step
 
     def refused(exc: Lighting2DError):
         return CommandError(str(exc))

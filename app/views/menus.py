@@ -115,12 +115,13 @@ class Menus(QObject):
 
     def _fill_recent(self) -> None:
         self.recent_menu.clear()
-        for path in self.recent.paths():
+        paths = self.recent.paths()  # window.ini, read once
+        for path in paths:
             action = self.recent_menu.addAction(path)
             action.triggered.connect(lambda _checked=False, p=path: self.window.run(f"open {shlex.quote(p)}"))
         self.recent_menu.addSeparator()
         clear = self.recent_menu.addAction("Clear Menu", self.recent.clear)
-        clear.setEnabled(bool(self.recent.paths()))
+        clear.setEnabled(bool(paths))
 
     # ---- the ui.* commands --------------------------------------------------------------------------
 
