@@ -224,3 +224,23 @@ def test_a_camera_drag_hashes_no_scene_again(editor, monkeypatch):
     assert hashed.count("lighting2d") == 0 and hashed.count("volume") <= 1
     assert editor.execute("voxel 1 1 1 255 0 0 255") and editor.documents.modified(editor.current)
     assert hashed.count("volume") <= 2  # hashed again once the voxels changed
+
+
+def test_a_stroke_previewed_under_the_mouse_hashes_the_volume_once_not_per_move(editor, monkeypatch):
+    """A preview changes the volume's version at every move; the document's digest (a hash of every voxel) is kept
+    by the history instead, so hovering with the brush does not hash the volume each time; an edit, its undo and
+    the preview's end each do, and the document is modified exactly while the edit stands."""
+    from app.model.volume import Volume
+
+    assert editor.execute("workspace volume") and editor.execute("sample cornell_box 16")
+    editor.documents.forget_changes()
+    hashed = []
+    digest = Volume.digest
+    monkeypatch.setattr(Volume, "digest", lambda self: hashed.append(1) or digest(self))
+    for x in range(2, 12):
+        assert editor.execute(f"stroke.preview z 8 1 255 0 0 255 {x} 5")
+        editor.documents.modified(editor.current)
+    assert len(hashed) == 1  # the first preview; the nine after it are the same document state
+    assert editor.execute("stroke z 8 1 255 0 0 255 5 5") and current(editor)[1]
+    assert editor.execute("undo") and not current(editor)[1]
+    assert len(hashed) == 3

@@ -36,7 +36,7 @@ class Documents:
         self.confirm: Callable[[Workspace, str], bool] | None = None
         self.path_listeners: list[Callable[[str], None]] = []  # every file a scene is opened from or saved to
         self.changes = 0  # counts renamings: a window retitles when it moves
-        self._digests: dict[str, tuple[object, int, str]] = {}  # workspace -> (model, its version, digest)
+        self._digests: dict[str, tuple[object, object, str]] = {}  # workspace -> (model, its version, digest)
 
     def digest(self, state: Workspace) -> str:
         """The workspace's document digest, kept while its document model stands unchanged."""

@@ -489,6 +489,13 @@ class Volume:
         return self._redo[-1].name if self._redo else None
 
     @property
+    def history_key(self) -> tuple[int, int, bool]:
+        """Changes with every edit pushed, undone or redone and when a preview shows or goes, but not as a preview
+        is painted again under the mouse: what the document's digest is kept by (a big volume takes a while to
+        hash, and a preview changes `version` at every move)."""
+        return self._pushes, len(self._undo), self._preview is not None
+
+    @property
     def edits(self) -> int:
         """Undo steps pushed so far, ever: mark it before a batch of edits, then `group_since(mark)`."""
         return self._pushes
@@ -541,8 +548,9 @@ class Volume:
 
     def digest(self) -> str:
         h = hashlib.sha256("{}x{}x{};".format(*self.size).encode())
-        h.update(self.data.data)
-        if self.scalars is not None:  # a plain RGBA volume's digest is as it always was
+        if self.scalars is None:
+            h.update(self.data.data)
+        else:  # the colours follow from the values and the window: hashing them too would add 4 bytes a voxel
             h.update(f";{self.scalars.values.dtype.str};{self.scalars.transfer!r};".encode())
             h.update(self.scalars.values.data)
         return h.hexdigest()[:16]

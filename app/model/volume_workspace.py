@@ -64,8 +64,8 @@ class VolumeWorkspace(Workspace):
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.digest(), "volume.view": short_hash(self.view.key())}
 
-    def document_model(self) -> tuple[object, int]:
-        return self.volume, self.volume.version  # a big volume takes a while to hash
+    def document_model(self) -> tuple[object, tuple]:
+        return self.volume, self.volume.history_key
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a

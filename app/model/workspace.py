@@ -66,7 +66,7 @@ class Workspace:
         changes while it differs from the one at the last save or load, so undoing back clears them."""
         return self.digest()[self.name]
 
-    def document_model(self) -> tuple[object, int] | None:
+    def document_model(self) -> tuple[object, object] | None:
         """The object the scene file holds and its version, where it keeps one: the document digest is worked out
         again only after either changes (hosts ask after every command, a camera drag too). None: every time."""
         return None
