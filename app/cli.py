@@ -38,7 +38,7 @@ def parser() -> argparse.ArgumentParser:
 
     p = argparse.ArgumentParser(prog="shadelab",
                                 description="Shadelab: a workbench for real-time lighting and volume techniques.")
-    sub = p.add_subparsers(dest="verb", metavar="{render,bench,exec}")
+    sub = p.add_subparsers(dest="verb", metavar="{" + ",".join(VERBS) + "}")
     sub.add_parser("exec", help=VERBS["exec"])
     r = sub.add_parser("render", help=VERBS["render"])
     r.add_argument("workspace", choices=[n for n in names() if n in RENDERERS])

@@ -23,7 +23,6 @@ from app.model.lighting2d_index import SceneIndex, SceneIndexes, light_bounds
 
 METHODS = SHADOW_METHODS
 KINDS = {"point": 0, "spot": 1, "textured": 2}
-ORDERED_PIECES = 16  # light2d_disc_order.shl holds 32 intervals a pixel, two a piece at most
 SHADOW_TYPES = {"solid": 0, "illuminated": 1, "occluded": 2}
 ALPHA = (False, False, False, True)
 ALL = (True, True, True, True)
@@ -299,7 +298,7 @@ class Lighting2DRenderer:
         self._pieces.use(0)
         name = "light2d_exact"
         if span.geometry.touching:
-            ordered = not span.geometry.overlapping and len(span.geometry.heads) <= ORDERED_PIECES
+            ordered = span.geometry.ordered
             name = "light2d_disc_order" if ordered else "light2d_disc"
             self.stats.disc_ordered += ordered
             self.stats.disc_fused += not ordered

@@ -10,6 +10,7 @@ import numpy as np
 from app.model.lighting2d import Light, Scene2D, outlines_overlap
 from app.model.lighting2d_index import SceneIndex
 
+ORDERED_PIECES = 16  # light2d_disc_order.shl holds 32 intervals a pixel, two a piece at most
 # each edge becomes two triangles over the corners (end, projected): A, B, A', B, B', A'
 QUAD = np.array([(0, 0), (1, 0), (0, 1), (1, 0), (1, 1), (0, 1)], "f8")
 
@@ -30,7 +31,7 @@ class LightGeometry:
     heads: np.ndarray       # (pieces,) int32: each piece's header texel in `pieces`
     touching: bool          # a piece meets the emitting disc
     hull_count: int
-    overlapping: bool = False  # touching, and two of the hulls overlap (light2d_disc_order.shl needs them apart)
+    ordered: bool = False   # touching, its hulls apart and few pieces: light2d_disc_order.shl (else light2d_disc.shl)
 
     @classmethod
     def build(cls, scene: Scene2D, index: SceneIndex, light: Light) -> "LightGeometry":
@@ -61,7 +62,9 @@ class LightGeometry:
             return np.concatenate(parts).astype("f4") if parts else np.zeros((0, width), "f4")
 
         touching = index.disc_touched(light)
-        overlapping = touching and outlines_overlap([scene.hulls[h].world() for h in hulls if scene.hulls[h].valid])
+        # asked only where it picks the program: a union of every hull in reach takes 231 ms for 4,000
+        ordered = (touching and len(heads) <= ORDERED_PIECES
+                   and not outlines_overlap([scene.hulls[h].world() for h in hulls]))
         return cls(cat(edges, 6), cat(triangles, 2), cat(texels, 4), np.array(heads, "i4"), touching, len(hulls),
-                   overlapping)
+                   ordered)
 

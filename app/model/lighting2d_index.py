@@ -82,15 +82,12 @@ class SceneIndex:
 
 class SceneIndexes:
     """One scene's index at a time, built again only after the scene changed. The 2D workspace holds one, so
-    that its frame and its tool's clicks share each build (10,000 hulls take milliseconds to index); counting
-    the builds lets a test assert that."""
+    that its frame and its tool's clicks share each build (10,000 hulls take milliseconds to index)."""
 
     def __init__(self) -> None:
         self._index: SceneIndex | None = None
-        self.builds = 0
 
     def get(self, scene: Scene2D) -> SceneIndex:
         if self._index is None or not self._index.is_for(scene):
             self._index = SceneIndex(scene)
-            self.builds += 1
         return self._index

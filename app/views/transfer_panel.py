@@ -7,7 +7,7 @@ import math
 
 from PySide6.QtWidgets import QComboBox, QGroupBox, QLabel, QPushButton, QVBoxLayout
 
-from app.model.volume_scalars import COLORMAPS, value_range
+from app.model.volume_scalars import COLORMAPS, PERCENTILES, value_range
 from app.views.form_widgets import left_row, spin
 
 NO_SCALARS = ("no scalars to window: load a 16-bit or float NRRD, TIFF or .npy file (an edit bakes a scalar "
@@ -27,7 +27,8 @@ class TransferPanel(QGroupBox):
         self.low, self.high = spin(-1.0, 1.0, 0.01), spin(-1.0, 1.0, 0.01)
         self.low.setToolTip("Window low: values here and below are transparent")
         self.high.setToolTip("Window high: values here and above are opaque, the colour map's last colour")
-        self.auto = QPushButton("auto", toolTip="The window from percentiles 1..99 of the values above the minimum")
+        self.auto = QPushButton("auto", toolTip="The window from percentiles {:g}..{:g} of the values above the minimum"
+                                .format(*PERCENTILES))
         self.colormap = QComboBox(toolTip="The colour map across the window")
         self.colormap.addItems(COLORMAPS)
         self.info = QLabel(wordWrap=True)

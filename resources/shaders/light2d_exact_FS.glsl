@@ -4,7 +4,8 @@
 // area of the disc between rays at offsets u1 < u2 from its centre (in radii) is g(u2) - g(u1) with
 // g(x) = (x sqrt(1 - x^2) + asin x) / pi. The intervals of all pieces are merged before their area is
 // taken, so two hulls hiding the same half hide half (Penumbra adds them and hides all).
-// Pieces that touch the disc break the interval picture: such lights use light2d_disc_FS.glsl.
+// Pieces that touch the disc break the interval picture: such lights use light2d_disc_order_FS.glsl
+// or light2d_disc_FS.glsl.
 //#INCLUDE light2d_pieces.shl
 //#INSERT light2d_pieces
 uniform bool u_outside;        // the pass runs outside every hull (a solid light's cover leaves them out)
