@@ -6,11 +6,12 @@ the file); the voxel size is checked against `max_bytes` before any voxel data i
 peaks at twice the returned volume's size. Only regular files are opened (app.io.regular_file). Writers go
 through app.io.atomic, so a failed save never replaces a good file with a half-written one.
 
-Greyscale arrays (.npy, TIFF, NRRD) of 8-bit values are densities: grey goes into R, G and B and alpha is 255
-where the voxel is non-zero, 0 elsewhere, so empty space stays clear. Greyscale arrays of wider integers or floats
-(SCALAR_TYPES: CT, MRI, microscopy) are scalars: the reader returns them as they are, (depth, height, width) in
-native byte order, and the model colours them through a transfer function (app/model/volume_scalars.py); their
-size counts the colours they become, 4 bytes a voxel, besides their own. The array formats also write scalars;
+Greyscale arrays (.npy, TIFF, NRRD) of uint8 values are densities: grey goes into R, G and B and alpha is 255
+where the voxel is non-zero, 0 elsewhere, so empty space stays clear. Greyscale arrays of the other integer types
+or floats (SCALAR_TYPES: int8 and 16- and 32-bit integers, floats; CT, MRI, microscopy) are scalars: the
+reader returns them as they are, (depth, height, width) in native byte order, and the model colours them
+through a transfer function (app/model/volume_scalars.py); their size counts the colours they become, 4 bytes a
+voxel, besides their own. The array formats also write scalars;
 NRRD keeps their window and colour map too, in a key/value field of its header (read_volume_file).
 Greyscale *images* in a series are pictures: they get alpha 255 unless the image itself says which pixels are
 transparent.
