@@ -48,7 +48,9 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("--size", type=_size, default=(640, 480), metavar="WxH")
     r.add_argument("--out", required=True, metavar="PNG")
     b = sub.add_parser("bench", help=VERBS["bench"])
-    b.add_argument("technique", choices=sorted(TECHNIQUES))
+    b.add_argument("technique", choices=sorted([*TECHNIQUES, "frames"]),
+                   help="a technique's methods against its reference; frames: each workspace's interactive and still "
+                        "frames at the editor's view size within r_frameBudget")
     b.add_argument("--quick", action="store_true", help="fewer settings and runs, small images (under a minute)")
     b.add_argument("--out", default="bench-out", metavar="DIR")
     return p
@@ -112,6 +114,8 @@ def render(args) -> int:
 
 
 def bench(args) -> int:
+    if args.technique == "frames":
+        return bench_frames(args)
     from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE
     from app.bench import harness, report
     from app.gl.headless import create_context, release_context
@@ -136,6 +140,26 @@ def bench(args) -> int:
         print(f"wrote {csv_path} and {png_path} in {time.perf_counter() - start:.1f} s")
     finally:
         release_context(ctx)  # leaves none current: a caller in this process may make its own
+    return 0
+
+
+def bench_frames(args) -> int:
+    from app.bench import frame_budget
+    from app.gl.headless import create_context, release_context
+    from app.gl.workspace_renderer import RENDERERS
+
+    RENDERERS["clouds"].prepare(terminal_progress(sys.stderr))
+    ctx = create_context()
+    try:
+        print(f"bench frames on {ctx.info['GL_RENDERER']}{' (quick)' if args.quick else ''}, "
+              f"{frame_budget.DEFAULT_VIEW[0]}x{frame_budget.DEFAULT_VIEW[1]}")
+        rows = frame_budget.run(ctx, list(RENDERERS), frames=8 if args.quick else 24)
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        frame_budget.write_csv(out / "frames.csv", rows)
+        print(f"wrote {out / 'frames.csv'}")
+    finally:
+        release_context(ctx)
     return 0
 
 

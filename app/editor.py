@@ -63,6 +63,10 @@ class Editor:
         """The current workspace's renderer settings, from the cvars and its view."""
         return COMMANDS[self.workspace].render_settings(self.console, self.current)
 
+    def frame_budget_ms(self) -> float:
+        """How long a frame may take while the user drags, orbits or plays (r_frameBudget)."""
+        return self.console.registry.cvars["r_frameBudget"].value
+
     def version(self) -> tuple:
         """Changes whenever anything a host draws changed: redraw when it differs."""
         return self.workspace, self.current.version(), self.console.registry.cvar_changes

@@ -8,6 +8,8 @@ from app.gl.headless import create_context, release_context
 
 # Keep tests away from the user's cache (shader .prs files, bench results).
 os.environ["SHADELAB_CACHE_DIR"] = tempfile.mkdtemp(prefix="shadelab-test-cache-")
+# Every frame's GL state read back: a renderer that leaves state or an error behind fails its test.
+os.environ["SHADELAB_GL_DEBUG"] = "1"
 
 
 @pytest.fixture(autouse=True)
@@ -45,7 +47,21 @@ def _qt_windows_die_with_their_test(request):
     """Tests that open windows (through qtbot) leave none behind for the next test."""
     yield
     if "qtbot" in request.fixturenames:
+        left = gl_state_errors()
         release_qt_windows()
+        assert not left, f"frames left GL state or errors behind: {left}"
+
+
+def gl_state_errors() -> list[str]:
+    """What the frames of every open window's viewport left behind (app/gl/gl_state.py), in GL debug mode."""
+    from PySide6.QtWidgets import QApplication
+
+    from app.views.viewport import Viewport
+
+    if QApplication.instance() is None:
+        return []
+    viewports = [getattr(w, "viewport", None) for w in QApplication.topLevelWidgets()]  # the main windows'
+    return [e for vp in viewports if isinstance(vp, Viewport) for e in vp.gl_state_errors]
 
 
 @pytest.fixture

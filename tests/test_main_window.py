@@ -1,22 +1,15 @@
 """The editor window under Xvfb: the viewport draws on demand, and every input becomes a command."""
-import time
 
 import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt
 
 from app.model.workspaces import WORKSPACES
+from tests.window_frames import frame_image, wait_until_drawn
 
 
 def inputs(window):
     return [line.text for line in window.editor.console.log if line.level == "input"]
-
-
-def frame_image(window):
-    image = window.viewport.grabFramebuffer().convertToFormat(window.viewport.grabFramebuffer().Format.Format_RGBA8888)
-    h, w = image.height(), image.width()
-    pixels = np.frombuffer(image.constBits(), np.uint8).reshape(h, image.bytesPerLine())[:, : 4 * w].reshape(h, w, 4)
-    return pixels.copy()  # a view would outlive the QImage that owns the memory
 
 
 def centre_pixel_of_world(window, x, y):
@@ -30,20 +23,6 @@ def test_viewport_draws_the_default_scene(window):
     assert image.shape[0] == window.viewport.height()
     assert (image[..., 1] > 60).sum() > 1000  # the seven flakes' outlines
     assert "ms/frame" in window.status_parts.frame_label.text()
-
-
-def wait_until_drawn(window, qtbot, quiet_s=0.3):
-    """Until the viewport has drawn all it was asked to (the first resizes, an idle refinement): no new frame
-    for quiet_s and no refinement pending. A slow machine just waits longer."""
-    vp = window.viewport
-    last = {"frames": -1, "at": time.monotonic()}
-
-    def drawn():
-        if vp.frames != last["frames"] or vp._idle_timer.isActive():
-            last.update(frames=vp.frames, at=time.monotonic())
-        return time.monotonic() - last["at"] > quiet_s
-
-    qtbot.waitUntil(drawn, timeout=20000)
 
 
 def test_renders_on_demand_only(window, qtbot):

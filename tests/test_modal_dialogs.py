@@ -8,7 +8,7 @@ from PySide6.QtCore import QPoint, QRect
 from PySide6.QtWidgets import QColorDialog, QFileDialog
 
 from tests.modal import while_modal
-from tests.test_main_window import wait_until_drawn
+from tests.window_frames import wait_until_drawn
 from tests.test_shadow_volumes_qt import rgb
 
 MIN_VISIBLE = 0.25  # of the view left uncovered by the dialog, or the comparison would prove little

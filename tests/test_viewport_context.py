@@ -2,7 +2,7 @@
 one's objects are freed and the new one draws the whole scene."""
 import numpy as np
 
-from tests.test_main_window import frame_image, wait_until_drawn
+from tests.window_frames import frame_image, wait_until_drawn
 
 
 def test_a_new_context_after_a_resize_draws_the_scene_and_the_old_one_is_released(window, qtbot):

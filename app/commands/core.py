@@ -9,11 +9,12 @@ import shlex
 from app.commands.documents import Documents
 from app.console import files
 from app.console.console import Console
-from app.console.registry import CommandError
+from app.console.registry import CommandError, Cvar
 from app.model.workspace import Workspace, Workspaces
 from app.model.workspaces import names
 
 
+FRAME_BUDGET_MS = 100.0  # r_frameBudget's default: 10 frames a second while the user works
 REPLACING = ("open", "recover", "scene.load", "scene.new")  # the commands here that replace a workspace's scene
 
 
@@ -35,6 +36,9 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
     reg = console.registry
     reg.scope = workspaces.name  # bare command names resolve in the current workspace first
     documents = Documents(console, workspaces)
+    reg.add_cvar(Cvar("r_frameBudget", float, FRAME_BUDGET_MS, "While you drag, orbit or play, each workspace "
+                      "draws its most accurate measured level whose frame fits this many ms, and refines when still",
+                      min=5.0, max=2000.0, archive=True))
 
     @reg.command("workspace", "[name]", "Show or switch the workspace: " + ", ".join(names()),
                  completer=lambda prefix: [n for n in names() if n.startswith(prefix)])

@@ -59,9 +59,6 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             ("cl_distanceScale", float, 1.0, 0.1, 16.0, "distance-function step multiplier"),
             ("cl_sampleRange", float, 1.0, 0.25, 8.0, "normal sampling radius, in voxels")):
         reg.add_cvar(Cvar(name, kind, default, text, min=lo, max=hi, archive=True))
-    reg.add_cvar(Cvar("r_frameBudgetMs", float, 50.0, "While the view moves, draw the most accurate measured "
-                      "setting whose frame fits this many ms (50 leaves room for the rest of an update at 15/s)",
-                      min=5.0, max=1000.0, archive=True))
     brush_round = reg.add_cvar(Cvar("brush_round", bool, True, "Round brush (0: square)", archive=True))
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
     batch = {"mark": 0}
@@ -388,5 +385,4 @@ def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:
     cvars, view = console.registry.cvars, state.view
     return TraceSettings(mode=view.mode, steps=cvars["cl_steps"].value, shadow_steps=cvars["cl_shadowSteps"].value,
                          sample_range=cvars["cl_sampleRange"].value, distance_scale=cvars["cl_distanceScale"].value,
-                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]),
-                         frame_budget_ms=cvars["r_frameBudgetMs"].value)
+                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]))

@@ -64,6 +64,9 @@ class OffscreenTarget:
         return data.reshape(self.size[1], self.size[0], 4)[::-1].copy()
 
     def release(self) -> None:
+        if self.ctx.fbo in (self.fbo, self.resolved):
+            # moderngl binds its last bound framebuffer again after making one: never let that be a deleted one
+            self.ctx.detect_framebuffer(0).use()
         for fbo in {self.fbo, self.resolved}:
             for attachment in (*fbo.color_attachments, fbo.depth_attachment):
                 if attachment is not None:

@@ -75,7 +75,7 @@ class Lighting2DRenderer:
         lightmap = self.build_lightmap(scene, camera, fbo.size, settings, index)
         fbo.scissor = None
         _bind(fbo, ALL)
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
         program = self.shaders.program("light2d_composite")
         diffuse = self._texture(scene.background, repeat=True)
         diffuse.use(0)
@@ -139,7 +139,7 @@ class Lighting2DRenderer:
             self.stats.lights_drawn += 1
         fbo.scissor = None
         _bind(fbo, ALL)
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
         return lightmap
 
     def index(self, scene: Scene2D, shared: SceneIndex | None = None) -> SceneIndex:
@@ -223,7 +223,7 @@ class Lighting2DRenderer:
             self.ctx.blend_equation = moderngl.FUNC_REVERSE_SUBTRACT
             self.ctx.blend_func = moderngl.ONE, moderngl.ONE
         else:
-            self.ctx.disable(moderngl.BLEND)
+            self._blend_off()
         span.draw_edges(self._edge_vaos.get(program))
         if soft:
             self._fill(fbo, 0.0, ALPHA, equation=moderngl.MAX)
@@ -277,7 +277,7 @@ class Lighting2DRenderer:
         fbo.clear(depth=1.0, viewport=fbo.scissor)
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<="
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
         hull = self._program("light2d_hull", common, u_color=(0.0, 0.0, 0.0, 0.0))
         for umbra, depth in [(False, 0.0)] + [(True, -0.5)] * solid:
             if umbra:
@@ -292,6 +292,7 @@ class Lighting2DRenderer:
             self._exact_pass(fbo, light, span, common, outside=solid)
         finally:
             self.ctx.disable(moderngl.DEPTH_TEST)
+            self.ctx.depth_func = "<"
             fbo.depth_mask = True
 
     def _exact_pass(self, fbo, light, span, common, outside: bool) -> None:
@@ -308,7 +309,7 @@ class Lighting2DRenderer:
             u_radius=float(light.radius), u_shadow_type=SHADOW_TYPES[light.shadow_type], u_outside=outside,
             **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
         self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)
 
     def _hull_pass(self, fbo, light, span, common) -> None:
@@ -318,7 +319,7 @@ class Lighting2DRenderer:
         value = 0.0 if light.shadow_type == "solid" else 1.0
         program = self._program("light2d_hull", common, u_color=(value, value, value, value), u_depth=0.0)
         _bind(fbo, ALPHA)
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
         span.draw_triangles(self._tri_vaos.get(program))
 
     def _light_pass(self, fbo, scene, light: Light, common, settings: Shading2D) -> None:
@@ -341,9 +342,15 @@ class Lighting2DRenderer:
         self.ctx.blend_equation = moderngl.FUNC_ADD
         self.ctx.blend_func = moderngl.DST_ALPHA, moderngl.ONE, moderngl.ONE, moderngl.ZERO
         self._quad_vaos.get(program).render(moderngl.TRIANGLE_STRIP)
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
 
     # ---- helpers ------------------------------------------------------------------------------------
+
+    def _blend_off(self) -> None:
+        """Blending off, with the equation and function a new context has, as the host's baseline (gl_state.py)."""
+        self.ctx.disable(moderngl.BLEND)
+        self.ctx.blend_equation = moderngl.FUNC_ADD
+        self.ctx.blend_func = moderngl.DEFAULT_BLENDING
 
     def _program(self, name: str, common: dict, **uniforms) -> moderngl.Program:
         program = self.shaders.program(name)
@@ -364,14 +371,13 @@ class Lighting2DRenderer:
         program = self._program("light2d_fill", {}, u_color=(value, value, value, value))
         _bind(fbo, color_mask)
         if equation is None:
-            self.ctx.disable(moderngl.BLEND)
+            self._blend_off()
         else:
             self.ctx.enable(moderngl.BLEND)
             self.ctx.blend_equation = equation
             self.ctx.blend_func = moderngl.ONE, moderngl.ONE
         self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
-        self.ctx.disable(moderngl.BLEND)
-        self.ctx.blend_equation = moderngl.FUNC_ADD
+        self._blend_off()
 
     def _mask_into_alpha(self, fbo, mask, weights, blend: bool) -> None:
         program = self._program("light2d_mask", {}, u_mask=0, u_weights=weights)
@@ -382,9 +388,9 @@ class Lighting2DRenderer:
             self.ctx.blend_equation = moderngl.FUNC_ADD
             self.ctx.blend_func = moderngl.ONE, moderngl.ONE
         else:
-            self.ctx.disable(moderngl.BLEND)
+            self._blend_off()
         self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
-        self.ctx.disable(moderngl.BLEND)
+        self._blend_off()
 
     def _upload(self, buffer: moderngl.Buffer, data: np.ndarray, dtype: str = "f4") -> None:
         data = np.ascontiguousarray(data, dtype)

@@ -5,6 +5,7 @@ from typing import Callable
 
 import moderngl
 
+from app.gl.frame_budget import FULL, Level
 from app.gl.shaders import ShaderLibrary
 
 # What a renderer may own; programs belong to the shared ShaderLibrary and are not released here.
@@ -15,7 +16,13 @@ GL_OBJECTS = (moderngl.Buffer, moderngl.VertexArray, moderngl.Texture, moderngl.
 class WorkspaceRendererBase:
     """`render` draws the workspace's state into `fbo` with `settings` (a dataclass its commands build from
     the cvars, or None); it returns True when it drew a reduced frame or put work off, so the host asks for
-    a full frame once the user stops (then `idle` does the put-off work)."""
+    a full frame once the user stops (then `idle` does the put-off work).
+
+    LEVELS are the ways it may draw while the user interacts, most accurate first (app/gl/frame_budget.py): the
+    host picks the first whose measured time fits its budget, draws at its pixel scale, and passes the settings
+    through `cheaper` for the level's own saving."""
+
+    LEVELS: tuple[Level, ...] = (FULL, Level(0.5), Level(0.25))
 
     def __init__(self, ctx: moderngl.Context, shaders: ShaderLibrary) -> None:
         self.ctx, self.shaders = ctx, shaders
@@ -28,6 +35,10 @@ class WorkspaceRendererBase:
     def render(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool = False) -> bool:
         raise NotImplementedError
 
+    def cheaper(self, settings, cheap: int):
+        """`settings` with the renderer's own saving number `cheap` (1, 2...: each cheaper) applied."""
+        return settings
+
     def idle(self) -> bool:
         """Work put off while the user interacted; True if a redraw is due."""
         return False
@@ -36,9 +47,6 @@ class WorkspaceRendererBase:
         """Whether another frame of the unchanged scene would still improve the image (a temporal history
         filling): the host then draws again at once."""
         return False
-
-    def frame_took(self, ms: float, interactive: bool) -> None:
-        """The host's measure of the frame just drawn (a renderer that adapts its quality learns from it)."""
 
     def value_at(self, x: float, y: float, size: tuple[int, int]):
         """What the last frame, `size` pixels, shows at pixel (x, y) from its top left, for the status bar (the

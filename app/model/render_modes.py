@@ -61,4 +61,3 @@ class TraceSettings:
     slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
     shadow_offset: float = SHADOW_OFFSET
     eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
-    frame_budget_ms: float = 50.0  # while the view moves, the most accurate measured level that fits this

@@ -161,6 +161,7 @@ class MainWindow(QMainWindow):
         if name in RENDERERS:
             self._prepare(name)
         self.workspace_actions[name].setChecked(True)
+        self.viewport.forget_frame_times()
         self.viewport.tool = self.tools.get(name)
         self.panels.setCurrentWidget(self.workspace_panels.get(name, self.placeholder))
         self._fit_editor_dock(name)

@@ -9,6 +9,7 @@ import moderngl
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
+from app.gl.gl_state import GLStateError
 from app.gl.workspace_renderer import EMPTY_BACKGROUND, WorkspaceRenderer
 from app.views.keys import key_name
 from app.views.tool import ViewportTool
@@ -45,6 +46,7 @@ class Viewport(QOpenGLWidget):
         self.interactive = False  # the last frame was asked for during an interaction
         self._refining = False    # the next frame is the full-quality one after an interaction
         self.preparing = False    # the window is making what a renderer needs: draw nothing yet
+        self.gl_state_errors: list[str] = []  # in GL debug mode, what frames left behind (tests fail on any)
 
     def initializeGL(self) -> None:
         self.ctx = moderngl.create_context()
@@ -90,7 +92,11 @@ class Viewport(QOpenGLWidget):
             return
         deferred = False
         try:
-            deferred = self.renderer.render(fbo, self.editor.current, self.editor.render_settings(), self.interactive)
+            deferred = self.renderer.render(fbo, self.editor.current, self.editor.render_settings(), self.interactive,
+                                            self.editor.frame_budget_ms())
+        except GLStateError as exc:  # debug mode: the frame is drawn, but left state or an error behind
+            self.gl_state_errors.append(str(exc))
+            self.gl_error.emit(str(exc))
         except Exception as exc:  # e.g. a shader that never compiled: say so, keep the editor alive
             fbo.clear(0.3, 0.05, 0.05, 1.0)
             self.gl_error.emit(str(exc))
@@ -98,7 +104,7 @@ class Viewport(QOpenGLWidget):
         self._free_dropped()
         self._last_frame = time.perf_counter()
         ms = (self._last_frame - start) * 1e3
-        self.renderer.frame_took(ms, self.interactive)
+        self.renderer.frame_took(ms)
         if deferred:
             self._idle_timer.start()
         self._refining = False
@@ -141,6 +147,11 @@ class Viewport(QOpenGLWidget):
             self.doneCurrent()
         self._refining = True
         self.update()
+
+    def forget_frame_times(self) -> None:
+        """Another workspace is shown: its frames are timed from now on (an average over two workspaces says
+        nothing of either)."""
+        self.frame_ms.clear()
 
     def mean_frame_ms(self) -> float:
         """The mean time of the recent frames (Tex3Dtrace's statistic: 1000 / it is the frames per second they
