@@ -35,6 +35,8 @@ fi
 stamp=.venv/.shadelab-installed
 want=$(sha256sum pyproject.toml | cut -d' ' -f1)
 if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+  # setuptools' "Editable installation" banner reads like an error on a first run: it is not one
+  export PYTHONWARNINGS="ignore:Editable installation"
   .venv/bin/python -m pip install -q --upgrade pip
   .venv/bin/python -m pip install -q -e ".[test]"
   echo "$want" > "$stamp"

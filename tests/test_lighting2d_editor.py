@@ -84,6 +84,51 @@ def test_a_hull_is_drawn_by_clicking_points(window, qtbot):
     assert window.editor.workspaces["lighting2d"].selection == ("hull", 0)
 
 
+def hover(widget, pos: QPoint) -> None:
+    event = QMouseEvent(QEvent.Type.MouseMove, QPointF(pos), QPointF(widget.mapToGlobal(pos)), Qt.MouseButton.NoButton,
+                        Qt.MouseButton.NoButton, Qt.KeyboardModifier.NoModifier)
+    QApplication.sendEvent(widget, event)
+
+
+def overlay(window):
+    return window.viewport.renderer.renderers["lighting2d"].overlay
+
+
+def test_a_hull_being_drawn_shows_its_rubber_band_to_the_cursor(window, qtbot):
+    """Broken: the points clicked showed, but nothing joined the last one to the cursor."""
+    open_2d(window, qtbot)
+    vp = window.viewport
+    vp.setFocus()
+    qtbot.keyClick(vp, Qt.Key.Key_H)
+    for x, y in ((-50, -50), (50, -50)):
+        qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=pixel(window, x, y))
+    frames = vp.frames
+    hover(vp, pixel(window, 0, 60))
+    qtbot.waitUntil(lambda: vp.frames > frames)
+    segments = overlay(window)._selection_layer.lines.uploaded()
+    state = window.editor.workspaces["lighting2d"]
+    first, last, cursor = (np.array(p) for p in (state.pending[0], state.pending[-1], state.pending_cursor))
+    assert np.linalg.norm(cursor - (0, 60)) < 3
+
+    def drawn(a, b) -> bool:
+        return bool((np.abs(segments - np.array([a, b], "f4")).max(axis=(1, 2)) < 1e-3).any())
+
+    assert drawn(last, cursor) and drawn(cursor, first)  # the band, and where the hull would close
+    qtbot.keyClick(vp, Qt.Key.Key_Escape)
+    assert window.editor.workspaces["lighting2d"].pending_cursor is None
+
+
+def test_every_hull_shows_its_outline_without_the_wireframe(window, qtbot):
+    """Broken: sample g's hulls were invisible unless r_debug2d drew the wireframe."""
+    open_2d(window, qtbot)
+    window.run("hull.add -20 -20 20 -20 20 20 -20 20")
+    frames = window.viewport.frames
+    qtbot.waitUntil(lambda: window.viewport.frames > frames)
+    layer = overlay(window)._scene_layer
+    outline = [count for colour, _first, count in layer.spans if colour[:3] == (0.85, 0.85, 0.9)]
+    assert outline == [4]
+
+
 def test_vertices_are_dragged_inserted_and_deleted(window, qtbot):
     open_2d(window, qtbot)
     window.run("hull.add -40 -40 40 -40 40 40 -40 40")

@@ -70,7 +70,7 @@ def test_the_icons_of_lights_outside_the_view_are_not_drawn(editor_frame):
     near, near_pixels = editor_frame(Lighting2DWorkspace(scene(0)))
     crowded, crowded_pixels = editor_frame(Lighting2DWorkspace(scene(200)))
     assert near.icons == crowded.icons == 2
-    assert crowded.segments_uploaded == near.segments_uploaded == 2 * PER_ICON  # no hull is invalid
+    assert crowded.segments_uploaded == near.segments_uploaded == 2 * PER_ICON + 4  # and the hull's outline
     assert np.array_equal(crowded_pixels, near_pixels)
 
 

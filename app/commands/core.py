@@ -4,6 +4,7 @@ current workspace (or, for `open`, the one a file belongs to) through what every
 from __future__ import annotations
 
 import hashlib
+import math
 import shlex
 
 from app.commands.documents import Documents
@@ -56,12 +57,22 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
             raise CommandError(f"the {state.name} workspace has no scene files")
         return state.files
 
+    @reg.command("view.frame", "[aspect:float]", "Frame All: put the view where it shows the whole scene (keys F "
+                 "and View > Frame All); `aspect`, the view's width over its height, defaults to the view's own",
+                 recorded=False)
+    def view_frame(aspect: float | None = None) -> None:
+        if aspect is not None and not (math.isfinite(aspect) and 0.01 <= aspect <= 100.0):
+            raise CommandError(f"the aspect must be within 0.01..100, got {aspect:g}")
+        if not documents.frame(workspaces.current, aspect):
+            console.print(f"the {workspaces.name} scene is empty: nothing to frame")
+
     @reg.command("scene.load", "path", "Load the current workspace's scene file (checked before anything changes)")
     def scene_load(path: str) -> None:
         load = scene_files().load
         readable = str(files.readable(console, path))
         documents.may_replace(workspaces.current, f"scene.load {shlex.quote(path)}")
         documents.named(workspaces.current, load(readable))
+        documents.frame_loaded(workspaces.current)
 
     def load_in_its_workspace(path: str, line: str) -> tuple[Workspace, str]:
         """Load `path` into the workspace it belongs to (asking first if that drops unsaved changes there) and
@@ -77,7 +88,9 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
                  "and a JSON file's format), and switch to it",
                  completer=lambda p: files.complete(p, documents.suffixes()))
     def open_(path: str) -> None:
-        documents.named(*load_in_its_workspace(path, f"open {shlex.quote(path)}"))
+        state, read = load_in_its_workspace(path, f"open {shlex.quote(path)}")
+        documents.named(state, read)
+        documents.frame_loaded(state)
 
     @reg.command("recover", "autosave [original]", "Open an autosaved scene in its workspace as unsaved changes "
                  "to the file `original` (untitled without it)")

@@ -84,6 +84,24 @@ class Documents:
             self.console.print(f"{line}: cancelled; the unsaved changes are kept")
             raise Reported(line)
 
+    def frame(self, state: Workspace, aspect: float | None = None) -> bool:
+        """Frame All in `state` (the current workspace), for a view `aspect` wide per unit of height (None: the
+        host's view). False: nothing to frame."""
+        return self._run_camera(state.frame_commands(self.workspaces.view_aspect if aspect is None else aspect))
+
+    def frame_loaded(self, state: Workspace) -> None:
+        """A file just loaded is framed where it is not in view already (and its files keep no view of their own:
+        Workspace.load_frame_commands)."""
+        self._run_camera(state.load_frame_commands(self.workspaces.view_aspect))
+
+    def _run_camera(self, lines: list[str]) -> bool:
+        """The camera commands run as if typed, so a demo records them and replays the same camera whatever the
+        size of the window it plays in."""
+        for line in lines:
+            if not self.console.execute(line, echo=False):
+                raise Reported(line)
+        return bool(lines)
+
     def owner(self, path: str) -> Workspace:
         """The workspace whose files `path` is: by its suffix, and for a suffix several share (.json) by the
         "format" the file names; else CommandError."""
@@ -130,6 +148,8 @@ class Documents:
                 self.may_replace(state, shlex.join([verb, *map(str, args)]))
             path = handler(*args)
             self.named(state, path if titled else None)
+            if ask and titled:  # a load verb
+                self.frame_loaded(state)
 
         command.handler = tracked
 

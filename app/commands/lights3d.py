@@ -152,6 +152,15 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     def view_orbit(*args: float) -> None:
         state.camera = orbit_camera(*args)
 
+    @checks.add("view.target")
+    def targeted_camera(x: float, y: float, z: float) -> Lights3DCamera:
+        return replace(state.camera, target=(x, y, z))  # the camera checks the point (finite, within reach)
+
+    @reg.command("view.target", "x:float y:float z:float", "Orbit the camera around this point (View > Frame All "
+                 "puts it at the scene's middle)", quiet=True)
+    def view_target(x: float, y: float, z: float) -> None:
+        state.camera = targeted_camera(x, y, z)
+
     # ---- objects ------------------------------------------------------------------------------------
 
     @checks.add("object.add", "lights3d")

@@ -28,7 +28,7 @@ class RunawayError(CommandError):
 
 @dataclass(frozen=True)
 class Origin:
-    """Who wrote the commands that run now, when it is not the user typing them (DESIGN.md rule 6).
+    """Who wrote the commands that run now, when it is not the user typing them (docs/architecture.md rule 6).
     `home`: the folder of the file that runs (a demo's snapshot beside it may be read)."""
 
     kind: str  # "lua", "demo", "config", "bind" or "alias"
@@ -114,7 +114,7 @@ def _shown(line: str, limit: int = 200) -> str:
 
 
 class Console:
-    """Single door for state changes: every edit is a line executed here (DESIGN.md rule 1).
+    """Single door for state changes: every edit is a line executed here (docs/architecture.md rule 1).
 
     Listeners: `log_listeners` see every log line; `executed_listeners` every command that succeeded;
     `record_listeners` only those that change state by themselves (what a demo must replay).

@@ -28,7 +28,7 @@ def history_file() -> Path:
     return config_dir() / "history"
 
 
-# The file policy (DESIGN.md rule 6, docs/console.md "Files"). What the user types may read and write any
+# The file policy (docs/architecture.md rule 6, docs/console.md "Files"). What the user types may read and write any
 # file. What a Lua script, a demo, a config, a bind or an alias runs may write only inside the user's
 # Shadelab folder (a relative name lands there) and read only there, in the shipped resources, and beside
 # the file that runs (the folder of the demo or script the user opened, not below it). Paths are compared

@@ -1,4 +1,4 @@
-"""The host's frame budget (DESIGN.md rule 9): while the user drags, orbits or plays, each workspace draws at
+"""The host's frame budget (docs/architecture.md rule 9): while the user drags, orbits or plays, each workspace draws at
 the most accurate of its declared levels whose measured time fits the budget, and refines once still.
 
 A level is a share of the screen's pixels (drawn into a reduced target and stretched back) and a saving of the

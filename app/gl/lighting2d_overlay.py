@@ -1,5 +1,6 @@
-"""Lines over the lit 2D scene: each light's icon at its centre and invalid hulls in red (always), the debug
-wireframe (hull outlines, light quads, emitting discs) and the editor's selection with its handles. Only the
+"""Lines over the lit 2D scene: each light's icon at its centre, every hull's outline (faint; invalid hulls in red),
+the debug wireframe (brighter outlines, light quads, emitting discs), the editor's selection with its handles and
+the hull being drawn, its rubber band to the cursor. Only the
 hulls and light icons in view are looked at (the scene index finds the hulls), so what lies far away costs a
 frame nothing; and the lines are built and uploaded only when the scene, the view or the selection changed, so
 a still frame (the lightmap drawn again under them) only draws them."""
@@ -19,6 +20,8 @@ INVALID = (1.0, 0.2, 0.2, 1.0)
 WIRE = (0.9, 0.9, 0.9, 0.8)
 LIGHT = (1.0, 0.85, 0.3, 0.9)
 SELECTED = (0.3, 0.9, 1.0, 1.0)
+BAND = (0.3, 0.9, 1.0, 0.55)   # the hull being drawn, from its last point to the cursor
+HULL = (0.85, 0.85, 0.9, 0.45)  # every valid hull's outline, faint: hulls cast shadows but are not lit
 ICON = (1.0, 0.75, 0.1, 1.0)
 ICON_SHADE = (0.1, 0.08, 0.05, 1.0)
 HANDLE_PX = 5.0     # half-size of a vertex handle, in pixels
@@ -130,7 +133,7 @@ class Lighting2DOverlay:
         self.stats = OverlayStats()
 
     def draw(self, fbo, scene: Scene2D, index: SceneIndex, camera: Camera2D, flip_y: bool, debug: bool,
-             selection=None, pending=None) -> None:
+             selection=None, pending=None, cursor=None) -> None:
         """`index` is the scene's index for its current version (the renderer's): a new one means the scene
         changed, so it keys the layers with the view."""
         unit = camera.world_per_pixel(fbo.size[1])
@@ -139,31 +142,31 @@ class Lighting2DOverlay:
         self.stats = OverlayStats(icons=self.stats.icons)
         self._scene_layer.update((*frame, debug), lambda: self._scene_lines(scene, index, unit, view, debug),
                                  camera, flip_y, self.stats)
-        self._selection_layer.update((*frame, selection, tuple(pending or ())),
-                                     lambda: self._selection_lines(scene, unit, selection, pending),
+        self._selection_layer.update((*frame, selection, tuple(pending or ()), cursor if pending else None),
+                                     lambda: self._selection_lines(scene, unit, selection, pending, cursor),
                                      camera, flip_y, self.stats)
         self._scene_layer.draw(fbo, camera)
         self._selection_layer.draw(fbo, camera)
 
     def _scene_lines(self, scene: Scene2D, index: SceneIndex, unit: float, view, debug: bool):
-        invalid, wire, lights = [], [], []
+        invalid, outlines, lights = [], [], []
         icons, rims = light_icons(icons_in(scene, unit, *view), unit)
         self.stats.icons = len(icons) // len(ICON_LINES)
         seen = index.outlines_in(*view)
         self.hulls_seen = len(seen)
         for i in seen:
             hull = scene.hulls[i]
-            target = invalid if not hull.valid else (wire if debug else None)
-            if target is not None:
-                target.append(loop(hull.world()) if len(hull.points) > 2 else hull.world()[None])
+            target = outlines if hull.valid else invalid
+            target.append(loop(hull.world()) if len(hull.points) > 2 else hull.world()[None])
         if debug:
             for light in scene.lights:
                 lights.append(loop(light_quad(light)))
                 lights.append(circle(*light.position, max(light.radius, 3 * unit)))
-        return [(INVALID, invalid), (WIRE, wire), (LIGHT, lights), (ICON_SHADE, [rims]), (ICON, [icons])]
+        return [(INVALID, invalid), (WIRE if debug else HULL, outlines), (LIGHT, lights), (ICON_SHADE, [rims]),
+                (ICON, [icons])]
 
-    def _selection_lines(self, scene: Scene2D, unit: float, selection, pending):
-        selected = []
+    def _selection_lines(self, scene: Scene2D, unit: float, selection, pending, cursor=None):
+        selected, band = [], []
         if selection is not None and self._valid(scene, selection):
             h = handles(scene, selection, unit)
             kind, index = selection
@@ -182,7 +185,11 @@ class Lighting2DOverlay:
             if len(points) > 1:
                 selected.append(np.stack([points[:-1], points[1:]], axis=1))
             selected += [square(x, y, HANDLE_PX * unit) for x, y in points]
-        return [(SELECTED, selected)]
+            if cursor is not None:  # the rubber band: to the cursor, and back to the first point once it closes
+                band.append(np.array([[points[-1], cursor]]))
+                if len(points) >= 2:
+                    band.append(np.array([[cursor, points[0]]]))
+        return [(SELECTED, selected), (BAND, band)]
 
     @staticmethod
     def _valid(scene: Scene2D, selection) -> bool:

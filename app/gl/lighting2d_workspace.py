@@ -27,7 +27,7 @@ class Lighting2DWorkspaceRenderer(WorkspaceRendererBase):
         index = state.index()  # the workspace's, which its tool's clicks share
         self.lighting.render(fbo, state.scene, state.camera, settings, index=index)
         self.overlay.draw(fbo, state.scene, index, state.camera, settings.flip_y, settings.debug, state.selection,
-                          state.pending)
+                          state.pending, state.pending_cursor)
         return False
 
     def value_at(self, x: float, y: float, size: tuple[int, int]):

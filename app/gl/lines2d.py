@@ -4,6 +4,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from app.gl.blending import ALPHA, blended
 from app.gl.vertex_arrays import VertexArrays
 from app.model.camera2d import Camera2D
 
@@ -39,4 +40,5 @@ class Lines2D:
         program["u_scale"].value, program["u_offset"].value = tuple(scale), tuple(offset)
         program["u_color"].value = tuple(color)
         fbo.use()
-        self._vaos.get(program).render(moderngl.LINES, vertices=2 * count, first=2 * first)
+        with blended(ALPHA):  # a colour's alpha is its opacity over the picture
+            self._vaos.get(program).render(moderngl.LINES, vertices=2 * count, first=2 * first)

@@ -95,6 +95,14 @@ class CloudsWorkspace(Workspace):
         """What a clouds file holds: the parameters, the sun and the weather (not the clock the wind moves)."""
         return short_hash(self.params, self.view.sun_azimuth, self.view.sun_elevation, self.weather_source)
 
+    def load_frame_commands(self, aspect: float) -> list[str]:
+        return []  # a clouds file holds no camera, and the sky no bounds: the view stays
+
+    def frame_commands(self, aspect: float) -> list[str]:
+        """The sky has no bounds: the camera where a new scene puts it, looking at the layer."""
+        home = CloudView()
+        return [f"camera.alt {home.altitude!r}", f"camera.look {home.yaw!r} {home.pitch!r}"]
+
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the parameters, the view, the sun, the newest weather (blended in at once)
         and the clock; a blend under way starts finished."""

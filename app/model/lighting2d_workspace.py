@@ -5,7 +5,10 @@ import copy
 import dataclasses
 from typing import Callable
 
+import numpy as np
+
 from app.model.camera2d import Camera2D
+from app.model.framing import view_2d
 from app.model.history import SnapshotHistory
 from app.model.lighting2d import Light, Scene2D
 from app.model.lighting2d_index import SceneIndex, SceneIndexes
@@ -42,6 +45,7 @@ class Lighting2DWorkspace(Workspace):
         # what the 2D view draws besides the scene (view state, not model: no command changes it)
         self.selection: tuple[str, int] | None = None
         self.pending: list[tuple[float, float]] = []  # the points of a hull being drawn
+        self.pending_cursor: tuple[float, float] | None = None  # where the next point would go (the rubber band)
         self.history = SnapshotHistory(self._snapshot, self._restore)
         self.indexes = SceneIndexes()
 
@@ -73,6 +77,20 @@ class Lighting2DWorkspace(Workspace):
 
     def digest(self) -> dict[str, str]:
         return {"lighting2d": self.scene.digest(), "lighting2d.camera": short_hash(*self.camera.key())}
+
+    def load_frame_commands(self, aspect: float) -> list[str]:
+        return []  # a 2D scene file keeps the view it was saved with
+
+    def frame_commands(self, aspect: float) -> list[str]:
+        scene = self.scene
+        points = [hull.world() for hull in scene.hulls]
+        points += [np.array(light.position) + light.radius * np.array([[-1.0, -1.0], [1.0, 1.0]])
+                   for light in scene.lights]
+        if not points:
+            return []
+        every = np.concatenate(points)
+        cx, cy, height = view_2d(every.min(0), every.max(0), aspect)
+        return [f"lighting.view {cx!r} {cy!r} {height!r}"]
 
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the 2D scene and its view exactly (floats as repr)."""

@@ -2,9 +2,12 @@
 from __future__ import annotations
 
 import shlex
-from dataclasses import astuple
+from dataclasses import astuple, replace
 from typing import Callable
 
+import numpy as np
+
+from app.model.framing import box_in_view, orbit_distance
 from app.model.history import SnapshotHistory
 from app.model.lights3d import Lights3DCamera, Lights3DError, Scene3D, default_scene
 from app.model.workspace import Workspace, short_hash
@@ -79,6 +82,29 @@ class Lights3DWorkspace(Workspace):
     def document_digest(self) -> str:
         return short_hash(self.scene)  # a selection is no change to the file
 
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray] | None:
+        objects = [o for o in self.scene.objects if o.kind != "plane"] or self.scene.objects  # a ground is no subject
+        if not objects:
+            return None
+        corners = np.array([corner for obj in objects for corner in obj.bounds])
+        return corners.min(0), corners.max(0)
+
+    def load_frame_commands(self, aspect: float) -> list[str]:
+        bounds = self._bounds()
+        if bounds is None or box_in_view(self.camera, *bounds, aspect):
+            return []
+        return self.frame_commands(aspect)
+
+    def frame_commands(self, aspect: float) -> list[str]:
+        bounds = self._bounds()
+        if bounds is None:
+            return []
+        lo, hi = bounds
+        x, y, z = (float(v) for v in (lo + hi) / 2)
+        distance = orbit_distance(replace(self.camera, target=(x, y, z)), lo, hi, aspect)
+        cam = self.camera
+        return [f"view.target {x!r} {y!r} {z!r}", f"view.orbit {cam.yaw!r} {cam.pitch!r} {distance!r}"]
+
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the scene (from a snapshot file beside the demo unless it is the default one),
         the camera and the selection."""
@@ -87,5 +113,6 @@ class Lights3DWorkspace(Workspace):
         else:
             lines = [f"scene.load {shlex.quote(snapshot())}"]
         cam, selected = self.camera, self.selection
-        return lines + [f"view.orbit {cam.yaw!r} {cam.pitch!r} {cam.distance!r}",
+        x, y, z = cam.target
+        return lines + [f"view.target {x!r} {y!r} {z!r}", f"view.orbit {cam.yaw!r} {cam.pitch!r} {cam.distance!r}",
                         "lights3d.select " + ("none" if selected is None else f"{selected[0]} {selected[1]}")]

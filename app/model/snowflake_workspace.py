@@ -3,7 +3,10 @@ from __future__ import annotations
 
 from typing import Callable
 
+import numpy as np
+
 from app.model.camera2d import Camera2D
+from app.model.framing import in_view_2d, view_2d
 from app.model.history import SnapshotHistory
 from app.model.snowflake import SnowflakeScene, default_scene
 from app.model.workspace import Workspace, short_hash
@@ -27,6 +30,27 @@ class SnowflakeWorkspace(Workspace):
 
     def digest(self) -> dict[str, str]:
         return {"snowflake": self.scene.digest(), "snowflake.camera": short_hash(*self.camera.key())}
+
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray] | None:
+        flakes = self.scene.flakes
+        if not flakes:
+            return None
+        centres = np.array([(f.x, f.y) for f in flakes])
+        radii = np.array([f.radius for f in flakes])[:, None]  # a Koch flake stays within its triangle's circle
+        return (centres - radii).min(0), (centres + radii).max(0)
+
+    def frame_commands(self, aspect: float) -> list[str]:
+        bounds = self._bounds()
+        if bounds is None:
+            return []
+        cx, cy, height = view_2d(*bounds, aspect)
+        return [f"snow.view {cx!r} {cy!r} {height!r}"]
+
+    def load_frame_commands(self, aspect: float) -> list[str]:
+        bounds = self._bounds()
+        if bounds is None or in_view_2d(self.camera.key(), *bounds, aspect):
+            return []
+        return self.frame_commands(aspect)
 
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the scene and its view exactly (floats as repr)."""

@@ -5,9 +5,12 @@ import shlex
 from functools import cache
 from typing import Callable
 
+import numpy as np
+
 from app.model.volume import Volume
 from app.model.volume_samples import make
-from app.model.volume_view import VolumeView
+from app.model.framing import orbit_distance
+from app.model.volume_view import VolumeView, box_extents
 from app.model.workspace import Workspace, short_hash
 
 DEFAULT_SAMPLE = "coords3d"  # Tex3Dtrace opened coords3d by default
@@ -66,6 +69,12 @@ class VolumeWorkspace(Workspace):
 
     def document_model(self) -> tuple[object, tuple]:
         return self.volume, self.volume.history_key
+
+    def frame_commands(self, aspect: float) -> list[str]:
+        cam = self.view.camera
+        extent = np.array(box_extents(self.volume.size))
+        distance = orbit_distance(cam, -extent, extent, aspect)
+        return [f"orbit {cam.yaw!r} {cam.pitch!r} {distance!r}"]
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a

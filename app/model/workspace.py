@@ -1,6 +1,6 @@
 """What every workspace's state is, and the editor's list of them in switcher order.
 
-A workspace is one object (DESIGN.md rule 7): its model, its camera or view, its undo history, its part of
+A workspace is one object (docs/architecture.md rule 7): its model, its camera or view, its undo history, its part of
 the editor's version and digest, the commands that rebuild it at the start of a demo, and its scene files.
 Each layer keeps one mapping from the workspace's name to its part there (app/commands, app/gl,
 app/views, app/bench): docs/architecture.md lists them."""
@@ -71,6 +71,15 @@ class Workspace:
         again only after either changes (hosts ask after every command, a camera drag too). None: every time."""
         return None
 
+    def frame_commands(self, aspect: float) -> list[str]:
+        """Commands that put the view where it shows the whole scene, in a view `aspect` wide per unit of height
+        (Frame All, `view.frame`); none where there is nothing to frame."""
+        return []
+
+    def load_frame_commands(self, aspect: float) -> list[str]:
+        """After a file was loaded: the commands that frame it (Frame All), where it is not in view already."""
+        return self.frame_commands(aspect)
+
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild this state from any other: a demo's opening lines. `snapshot()` saves the
         scene beside the demo and returns its path, for state too big for command lines; `snapshot(suffix)`
@@ -95,6 +104,7 @@ class Workspaces:
     def __init__(self, states: list[Workspace], current: str) -> None:
         self._states = {state.name: state for state in states}
         self.name = current  # the current workspace's
+        self.view_aspect = 1.0  # width / height of the view a host last drew (none headless): Frame All fits it
 
     def __iter__(self):
         return iter(self._states.values())

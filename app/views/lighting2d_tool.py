@@ -162,6 +162,11 @@ class Lighting2DTool(ViewportTool):
             self._drag = ("vertex", (i, vertex))
 
     def move(self, event) -> None:
+        if self.drawing:  # the rubber band from the last point to the cursor
+            self.state.pending_cursor = self._world(event)
+            if self.state.pending:
+                self.viewport.selection_changed()
+            return
         if self._drag is None:
             return
         x, y = self._world(event)
@@ -276,13 +281,13 @@ class Lighting2DTool(ViewportTool):
 
     def cancel_drawing(self) -> None:
         self.drawing = False
-        self.state.pending = []
+        self.state.pending, self.state.pending_cursor = [], None
         self.viewport.selection_changed()
 
     def finish_hull(self) -> None:
         points = self.state.pending
         self.drawing = False
-        self.state.pending = []
+        self.state.pending, self.state.pending_cursor = [], None
         if len(points) >= 3:
             self.run("hull.draw " + " ".join(f"{x:.4f} {y:.4f}" for x, y in points))
             self.select(("hull", len(self.state.scene.hulls) - 1))

@@ -126,7 +126,7 @@ class MainWindow(QMainWindow):
         return self.editor.console.execute(line, echo=None)
 
     def run_bind(self, line: str) -> bool:
-        """A bound key's command: binds come from configs others may have written (DESIGN.md rule 6)."""
+        """A bound key's command: binds come from configs others may have written (docs/architecture.md rule 6)."""
         with self.editor.console.untrusted("bind"):
             return self.run(line)
 

@@ -8,18 +8,20 @@ from importlib import metadata
 from pathlib import Path
 
 from PySide6 import __version__ as PYSIDE_VERSION
-from PySide6.QtCore import QObject, Qt, QUrl
-from PySide6.QtGui import QAction, QDesktopServices, QKeySequence
+from PySide6.QtCore import QObject, Qt
+from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDialog, QLabel, QMessageBox, QScrollArea, QVBoxLayout
 
 from app.console.registry import CommandError
 from app.model.workspaces import workspace_title
+from app.views.docs_viewer import DocsViewer
 from app.views.layout_settings import RecentFiles
 from app.views.weak_callback import weak_callback
 
 DOCS = Path(__file__).resolve().parents[2] / "docs"  # beside the package in a source checkout
 EDITOR_KEYS = (("`", "show or hide the console"), ("Ctrl+Z", "undo"), ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
-               ("Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S", "new, open, save, save as"), ("Ctrl+Q", "quit"))
+               ("Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S", "new, open, save, save as"), ("Ctrl+Q", "quit"),
+               ("F", "frame the whole scene (View > Frame All; in the volume F is the wireframe, as in the seed)"))
 
 
 def _table(rows, code: bool) -> str:
@@ -41,6 +43,7 @@ class Menus(QObject):
         self.window = window
         self.recent = RecentFiles()
         self.keys_dialog: QDialog | None = None
+        self.docs_viewer: DocsViewer | None = None
         bar = window.menuBar()
 
         file = bar.addMenu("&File")
@@ -66,6 +69,7 @@ class Menus(QObject):
             action.triggered.connect(lambda _checked=False, k=key: window.run(f"ui.dock {k}"))
             self.dock_actions[key] = action
         view.addSeparator()
+        self._action(view, "&Frame All", "view.frame")  # key F: a global bind (default.cfg), as binds are keys
         self._action(view, "Reset &Layout", "ui.resetlayout")
 
         help_ = bar.addMenu("&Help")
@@ -163,8 +167,10 @@ class Menus(QObject):
             page = DOCS.parent / "README.md"
         if not page.is_file():
             raise CommandError(f"the documentation is not installed with this copy (looked in {DOCS})")
-        QDesktopServices.openUrl(QUrl.fromLocalFile(str(page)))
-        self.window.editor.console.print(f"opened {page}")
+        if self.docs_viewer is None:
+            self.docs_viewer = DocsViewer(self.window, DOCS)
+        self.docs_viewer.show_page(page)
+        self.window.editor.console.print(f"showing {page.name}")
 
     def about(self) -> None:
         vp = self.window.viewport

@@ -83,6 +83,9 @@ class Viewport(QOpenGLWidget):
         queued.extend(live)
         self.ctx.gc()
 
+    def resizeGL(self, width: int, height: int) -> None:
+        self.editor.workspaces.view_aspect = width / max(height, 1)  # what Frame All fits the scene to
+
     def paintGL(self) -> None:
         start = time.perf_counter()
         self.interactive = start - self._last_frame < INTERACTIVE_GAP and not self._refining
