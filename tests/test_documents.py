@@ -145,22 +145,44 @@ def test_replacing_asks_the_users_own_lines_and_a_cancel_changes_nothing(editor,
     assert editor.execute("lighting2d:lighting.sample a_penumbra_transition")  # unchanged: nothing to ask
     assert editor.execute("workspace lighting2d") and editor.execute("ambient 0.3 0.3 0.3")
     before = editor.digest()
-    for line in ("lighting.sample b_light_pass_through", "scene.new", "lighting.clear",
-                 f"open {SCENES / 'f_concave_star.json'}"):
+    for line in ("lighting.sample b_light_pass_through", "scene.new", f"open {SCENES / 'f_concave_star.json'}"):
         assert not editor.execute(line)
         assert "cancelled; the unsaved changes are kept" in editor.console.log[-1].text
     assert [doing for _name, doing in asked] == ["lighting.sample b_light_pass_through", "scene.new",
-                                                 "lighting.clear", f"open {SCENES / 'f_concave_star.json'}"]
+                                                 f"open {SCENES / 'f_concave_star.json'}"]
     assert editor.digest() == before
-    script = tmp_path / "clear.cfg"
-    script.write_text("lighting.clear\n")
+    script = tmp_path / "sample.cfg"
+    script.write_text("lighting.sample b_light_pass_through\n")
     assert editor.execute(f"exec {script}")  # a config is never asked
-    assert len(asked) == 4 and editor.workspaces["lighting2d"].scene.lights == []
-    assert editor.execute("undo") and editor.documents.modified(editor.current)
+    assert len(asked) == 3 and editor.digest()["lighting2d"] != before["lighting2d"]
+    assert editor.execute("undo") and editor.digest() == before and editor.documents.modified(editor.current)
     answer["go"] = True
     assert editor.execute("lighting.sample b_light_pass_through")
     assert asked[-1] == ("lighting2d", "lighting.sample b_light_pass_through")
     assert not editor.documents.modified(editor.current)
+
+
+# Per workspace: an edit that makes its scene differ from the one saved, and its verb that empties or resets it.
+UNDOABLE_RESETS = {"lighting2d": ("ambient 0.3 0.3 0.3", "lighting.clear"), "snowflake": ("snow.level 2", "snow.clear"),
+                   "clouds": ("clouds.set coverage 0.9", "clouds.reset"),
+                   "lights3d": ("light3d.add point", "lights3d.reset")}
+
+
+@pytest.mark.parametrize("workspace", sorted(UNDOABLE_RESETS))
+def test_an_edit_undo_takes_back_never_asks_and_keeps_the_file(editor, tmp_path, workspace):
+    """Clearing or resetting a scene is one undo step, as clearing a text editor is: no question, the scene keeps
+    its file with unsaved changes, and undo brings back the scene as saved."""
+    asked = []
+    editor.documents.confirm = lambda state, doing: asked.append(doing)  # would cancel, had it been asked
+    change, reset = UNDOABLE_RESETS[workspace]
+    assert editor.execute(f"workspace {workspace}") and editor.execute(change)
+    assert editor.execute(f"scene.save {workspace}.json")
+    saved, file = editor.digest()[workspace], str(tmp_path / f"{workspace}.json")
+    assert editor.execute(reset), errors(editor)
+    assert asked == [] and editor.digest()[workspace] != saved
+    assert current(editor) == (file, True)
+    assert editor.execute("undo") and editor.digest()[workspace] == saved and current(editor) == (file, False)
+    assert editor.execute("redo") and current(editor) == (file, True)  # the reset was one step
 
 
 def test_autosave_keeps_changed_scenes_and_recoverable_lists_those_newer_than_their_files(editor, tmp_path):

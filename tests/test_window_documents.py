@@ -1,7 +1,8 @@
-"""Documents in the window under Xvfb: the title names the file and marks unsaved changes; closing, a sample,
-Open or New over unsaved changes asks to save, discard or cancel; File > Open and Save As dialogs are
-filtered by the workspace's formats; `shadelab FILE` opens the file in its workspace; and a crashed session's
-autosave is offered back at the next start."""
+"""Documents in the window under Xvfb: the title names the file and marks unsaved changes; a sample, Open or New
+over unsaved changes asks to save, discard or cancel, an edit undo takes back (clear, reset) never asks, and
+closing asks once for every changed scene; File > Open and Save As dialogs are filtered by the workspace's
+formats and start in the folder last used; `shadelab FILE` opens the file in its workspace; and a crashed
+session's autosave is offered back at the next start."""
 import os
 import subprocess
 import sys
@@ -18,7 +19,7 @@ from app.io.volume_formats import read_volume_file
 from app.resources import SCENES
 from app.views.application import startup_command
 from app.views.main_window import MainWindow
-from dialogs import answer, said
+from dialogs import NoDialogs, answer, said, showed
 
 Button = QMessageBox.StandardButton
 STAR = SCENES / "f_concave_star.json"
@@ -75,7 +76,7 @@ def test_discard_closes_without_writing(make_window, qtbot, tmp_path):
     path = saved_flakes(tmp_path)
     window.run(f"open {path}")
     before = path.read_bytes()
-    window.run("snow.clear")  # replacing: asks, but nothing is unsaved yet
+    window.run("snow.clear")  # an edit undo takes back: never asks
     window.run("snow.add 0 0")
     answer(Button.Discard)
     window.close()
@@ -230,3 +231,78 @@ def test_save_as_without_a_suffix_keeps_a_scalar_volume_as_nrrd(make_window, qtb
     kept = read_volume_file(tmp_path / "kept.nrrd")
     assert kept.data.dtype == np.int16 and (kept.transfer.low, kept.transfer.high) == (10.0, 300.0)
     assert not (tmp_path / "kept.r3").exists()
+
+
+def type_line(qtbot, window, line: str) -> None:
+    """Type `line` into the console's command line and press Enter, as a person would."""
+    field = window.console_widget.input
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    qtbot.keyClicks(field, line)
+    qtbot.keyClick(field, Qt.Key.Key_Return)
+
+
+def test_a_clear_typed_over_unsaved_changes_never_asks(make_window, qtbot, tmp_path):
+    """Issue 25: `snow.clear` typed over unsaved changes asked to save with Save focused, and the typing after it
+    saved a stray file and lost the next line. Clearing is one undo step: no question, the scene keeps its file
+    with unsaved changes, and the next line runs."""
+    window = make_window(asks=True)
+    path = saved_flakes(tmp_path)
+    window.run(f"open {path}")
+    window.run("snow.add 0.5 0.5")
+    files, saved = sorted(tmp_path.iterdir()), path.read_bytes()
+    with NoDialogs() as dialogs:
+        type_line(qtbot, window, "snow.clear")
+        type_line(qtbot, window, "snow.add 0.25 0.25")
+    assert dialogs.came == []
+    assert [(f.x, f.y) for f in window.editor.current.scene.flakes] == [(0.25, 0.25)]
+    assert shown_title(window) == "flakes.json* — Snowflake — Shadelab"
+    assert sorted(tmp_path.iterdir()) == files and path.read_bytes() == saved
+    assert window.run("undo") and window.editor.current.history.undo_name() == "Clear Flakes"
+    assert window.run("undo") and len(window.editor.current.scene.flakes) == 3  # the file's two and the one added
+
+
+def changed_scenes(window, tmp_path):
+    """Unsaved changes in three workspaces: a shipped 2D lighting sample (saved only through Save As), an untitled
+    3D lights scene and a snowflake file. Returns the snowflake file."""
+    path = saved_flakes(tmp_path)
+    for line in (f"open {STAR}", "ambient 0.5 0.1 0.1", "workspace lights3d", "light3d.add point", f"open {path}",
+                 "snow.add 0.4 0.4"):
+        assert window.run(line)
+    return path
+
+
+def test_closing_with_several_changed_scenes_asks_once_and_saves_all(make_window, qtbot, tmp_path):
+    window = make_window(asks=True)
+    flakes = changed_scenes(window, tmp_path)
+    seen = answer(Button.Cancel)
+    window.close()
+    assert window.isVisible() and len(seen) == 1  # one question, not one a scene
+    assert said(seen)[0] == ("3 scenes have unsaved changes:\n• 2D lighting: f_concave_star.json\n"
+                             "• 3D lights: untitled\n• Snowflake: flakes.json\n\nSave them before closing Shadelab?")
+    assert sorted(showed(seen)[0]) == ["Cancel", "Discard All", "Save All"]
+    seen = answer(Button.SaveAll, None)  # the sample needs Save As: cancelling it cancels the close
+    window.close()
+    assert window.isVisible() and said(seen)[1] == ["2D lighting files (*.json)"]
+    documents, states = window.editor.documents, window.editor.workspaces
+    assert all(documents.modified(states[name]) for name in ("lighting2d", "lights3d", "snowflake"))
+    seen = answer(Button.SaveAll, tmp_path / "star", tmp_path / "lights")
+    window.close()
+    qtbot.waitUntil(lambda: not window.isVisible())
+    assert said(seen)[1:] == [["2D lighting files (*.json)"], ["3D lights files (*.json)"]]
+    fresh = Editor(clock=VirtualClock(), configs=False)
+    for name, file in (("lighting2d", tmp_path / "star.json"), ("lights3d", tmp_path / "lights.json"),
+                       ("snowflake", flakes)):
+        assert fresh.execute(f"open {file}")
+        assert fresh.workspaces[name].document_digest() == states[name].document_digest()
+
+
+def test_discard_all_closes_without_writing_any(make_window, qtbot, tmp_path):
+    window = make_window(asks=True)
+    flakes = changed_scenes(window, tmp_path)
+    files, saved = sorted(tmp_path.iterdir()), flakes.read_bytes()
+    seen = answer(Button.Discard)
+    window.close()
+    qtbot.waitUntil(lambda: not window.isVisible())
+    assert said(seen)[0].startswith("3 scenes have unsaved changes:")
+    assert sorted(tmp_path.iterdir()) == files and flakes.read_bytes() == saved

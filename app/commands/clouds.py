@@ -83,8 +83,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         seed = int(source[1]) if source[0] == "new" else None
         clouds_scene.save(path, CloudScene(state.params, (state.view.sun_azimuth, state.view.sun_elevation), seed))
 
-    state.files = SceneFiles(load, save, (".json",), clouds_scene.FORMAT, new=lambda: clouds_reset(),
-                             replacing=("clouds.reset",))
+    state.files = SceneFiles(load, save, (".json",), clouds_scene.FORMAT, new=lambda: clouds_reset())
 
     # ---- parameters ---------------------------------------------------------------------------------
 

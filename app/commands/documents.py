@@ -18,7 +18,7 @@ from app.io import autosave as autosave_file
 from app.io.autosave import Autosaved
 from app.io.json_file import JSONFileError, format_name
 from app.model.workspace import Workspace, Workspaces
-from app.resources import RESOURCES
+from app.resources import shipped
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ class Documents:
         """Where a plain Save writes: the scene's file, unless it is untitled or one of the shipped resources
         (a sample opened and edited is saved as a new file, never over the sample)."""
         path = self.path(state)
-        return None if path is None or Path(path).is_relative_to(RESOURCES) else path
+        return None if path is None or shipped(path) else path
 
     def modified(self, state: Workspace) -> bool:
         return state.files is not None and self._documents[state.name].saved != self.digest(state)

@@ -156,7 +156,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         scene_file.save(path, scene())
 
     state.files = SceneFiles(load, save, (".json",), scene_file.FORMAT, new=clear,
-                             replacing=("lighting.sample", "lighting.clear"))
+                             replacing=("lighting.sample",))
     state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene
 
     @checks.add("ambient")

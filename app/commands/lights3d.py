@@ -111,7 +111,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         return path
 
     state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",),
-                             lights3d_scene.FORMAT, new=lambda: reset(), replacing=("lights3d.reset",))
+                             lights3d_scene.FORMAT, new=lambda: reset())
 
     @reg.command("lights3d.reset", "", "Put the default scene back (seed 004's two lights over five objects)")
     def reset() -> None:

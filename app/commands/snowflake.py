@@ -33,7 +33,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         return path
 
     state.files = SceneFiles(load, lambda path: snowflake_scene.save(path, scene), (".json",),
-                             snowflake_scene.FORMAT, new=lambda: clear(), replacing=("snow.clear",))
+                             snowflake_scene.FORMAT, new=lambda: clear())
 
     @checks.add("snow.level")
     def level_value(value: float | None = None) -> float | None:

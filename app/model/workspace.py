@@ -27,8 +27,9 @@ class SceneFiles:
 
     `format`: the "format" its JSON files name, which tells them from other workspaces' JSON files (`open`).
     `new`: puts an empty (or the default) scene in place (File > New, `scene.new`).
-    `replacing`: its own verbs that put another whole scene in place (samples, clear): the editor asks
-    before they drop unsaved changes, and the scene is untitled after them.
+    `replacing`: its own verbs that put another document in place (a sample; the volume's `new`, its New): the
+    editor asks before they drop unsaved changes, and the scene is untitled after them. An edit that undo takes
+    back (clear, reset) is none of them: it never asks, and the scene keeps its file, with unsaved changes.
     `verbs`: its own load and save verbs, if it has any besides scene.load and scene.save (the volume's
     `load` and `save`): they return the file they read or wrote, which names the scene's file as those do.
     `keeping`: the suffix of a file that keeps the scene as it stands, where that depends on the scene (a scalar

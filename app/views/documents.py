@@ -1,7 +1,9 @@
 """The window's side of documents (app/commands/documents.py): the title names the current workspace's file
 and marks unsaved changes; File > Open and Save As choose files in dialogs filtered by the workspaces'
-formats; and before a line drops unsaved changes (a sample, Open, New) or the window closes, a dialog asks
-to save, discard or cancel. What a dialog chooses runs as a console command, as the user's own line."""
+formats, and start in the folder of the file last opened or saved (app/views/layout_settings.py); before a line
+drops unsaved changes (a sample, Open, New) a dialog asks to save, discard or cancel, and before the window closes
+one dialog asks it for every changed scene. What a dialog chooses runs as a console command, as the user's own
+line."""
 from __future__ import annotations
 
 import shlex
@@ -13,7 +15,8 @@ from PySide6.QtWidgets import QFileDialog, QMessageBox
 from app.console.registry import CommandError
 from app.model.workspace import Workspace
 from app.model.workspaces import workspace_title
-from app.views.layout_settings import RecentFiles
+from app.resources import shipped
+from app.views.layout_settings import FileFolder, RecentFiles
 from app.views.weak_callback import weak_callback
 
 APP = "Shadelab"
@@ -31,7 +34,7 @@ class DocumentsUI(QObject):
         self.editor = window.editor
         self.documents = window.editor.documents
         self.documents.confirm = weak_callback(self, "confirm", gone=True)  # no window left to ask: go on
-        self.documents.path_listeners.append(RecentFiles().add)
+        self.documents.path_listeners += [RecentFiles().add, weak_callback(self, "_remember_folder")]
         self._titled = None
         reg = self.editor.console.registry
         reg.command("ui.open", "", "Choose a file to open in its workspace (File > Open)", recorded=False)(
@@ -73,23 +76,42 @@ class DocumentsUI(QObject):
         workspace is shown first, so the question is about what the user sees."""
         if state.name != self.editor.workspace:
             self.window.run(f"workspace {state.name}")
-        box = QMessageBox(QMessageBox.Icon.Warning, "Unsaved changes",
-                          f"The {workspace_title(state.name)} scene {self.file_name(state)} has unsaved changes.",
-                          Button.Save | Button.Discard | Button.Cancel, self.window)
-        box.setInformativeText(f"Save them before {doing}?")
-        box.setDefaultButton(Button.Save)
+        return self._ask([state], doing)
+
+    def may_close(self) -> bool:
+        """Before the window closes: one question for all the scenes with unsaved changes."""
+        changed = [state for state in self.editor.workspaces if self.documents.modified(state)]
+        return not self.asking or not changed or self._ask(changed, "closing Shadelab")
+
+    def _ask(self, states: list[Workspace], doing: str) -> bool:
+        """One dialog before `doing`: save the unsaved changes of every scene in `states`, discard them or cancel;
+        True: go on. Several are listed by workspace and file, with Save All and Discard All."""
+        if len(states) == 1:
+            text = f"The {workspace_title(states[0].name)} scene {self.file_name(states[0])} has unsaved changes."
+            info, save = f"Save them before {doing}?", Button.Save
+        else:
+            text = f"{len(states)} scenes have unsaved changes:"
+            listed = "\n".join(f"• {workspace_title(state.name)}: {self.file_name(state)}" for state in states)
+            info, save = f"{listed}\n\nSave them before {doing}?", Button.SaveAll
+        box = QMessageBox(QMessageBox.Icon.Warning, "Unsaved changes", text, save | Button.Discard | Button.Cancel,
+                          self.window)
+        box.setInformativeText(info)
+        box.setDefaultButton(save)
+        if save == Button.SaveAll:
+            box.button(Button.Discard).setText("Discard All")
         answer = box.exec()
         if answer == Button.Discard:
             return True
-        if answer == Button.Save:
+        if answer == save:
             with self.editor.console.as_user():  # the user chose to save, whichever key asked
-                return self.save()
+                return all(self._save_scene(state) for state in states)  # a Save As cancelled stops here
         return False
 
-    def may_close(self) -> bool:
-        """Before the window closes: save, discard or cancel for each scene with unsaved changes."""
-        return not self.asking or all(self.confirm(state, "closing Shadelab") for state in self.editor.workspaces
-                                      if self.documents.modified(state))
+    def _save_scene(self, state: Workspace) -> bool:
+        """Save `state`'s scene, shown first: an untitled one or a shipped sample asks where in Save As."""
+        if state.name != self.editor.workspace and not self.window.run(f"workspace {state.name}"):
+            return False
+        return self.save()
 
     # ---- files --------------------------------------------------------------------------------------
 
@@ -101,9 +123,8 @@ class DocumentsUI(QObject):
                    for s in sorted(with_files, key=lambda s: s is not current)]
         every = name_filter("Every Shadelab file", self.documents.suffixes())
         filters.insert(1 if current.files is not None else 0, every)
-        recent = RecentFiles().paths()
-        folder = str(Path(recent[0]).parent) if recent else ""  # beside the newest recent file
-        path, _ = QFileDialog.getOpenFileName(self.window, "Open", folder, ";;".join([*filters, "All files (*)"]))
+        path, _ = QFileDialog.getOpenFileName(self.window, "Open", FileFolder().start(),
+                                              ";;".join([*filters, "All files (*)"]))
         return bool(path) and self._run_chosen(f"open {shlex.quote(path)}")
 
     def save(self) -> bool:
@@ -116,14 +137,22 @@ class DocumentsUI(QObject):
         state = self.editor.current
         if state.files is None:
             raise CommandError(f"the {state.name} workspace has no scene files")
-        title = f"{workspace_title(state.name)} files"
-        path, _ = QFileDialog.getSaveFileName(self.window, "Save As", self.documents.path(state) or "",
-                                              name_filter(title, state.files.suffixes))
+        title = workspace_title(state.name)
+        shown = self.documents.path(state)  # a sample's name is offered in the user's folder, never its own
+        start = self.documents.save_path(state) or str(Path(FileFolder().start(), Path(shown).name if shown else ""))
+        path, _ = QFileDialog.getSaveFileName(self.window, f"Save As — {title} scene", start,
+                                              name_filter(f"{title} files", state.files.suffixes))
         if not path:
             return False
         if not Path(path).suffix:
             path += state.files.keeping_suffix()  # a scalar volume: .nrrd, which keeps its window
         return self._run_chosen(f"scene.save {shlex.quote(path)}")
+
+    def _remember_folder(self, path: str) -> None:
+        """The folder of a file the user opened or saved is where the next dialog starts (not a script's, nor
+        the shipped samples' folder)."""
+        if self.editor.console.trusted and not shipped(path):
+            FileFolder().remember(path)
 
     def _run_chosen(self, line: str) -> bool:
         with self.editor.console.as_user():  # what the user chose in a dialog, whichever key opened it

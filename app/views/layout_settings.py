@@ -1,8 +1,11 @@
-"""What the window keeps between runs: its geometry, its docks' places and sizes, and the recent files, in an
-ini file in the user's config folder ($SHADELAB_CONFIG_DIR keeps tests apart from the user's own)."""
+"""What the window keeps between runs: its geometry, its docks' places and sizes, the recent files and the folder
+the file dialogs start in, in an ini file in the user's config folder ($SHADELAB_CONFIG_DIR keeps tests apart
+from the user's own)."""
 from __future__ import annotations
 
-from PySide6.QtCore import QSettings
+from pathlib import Path
+
+from PySide6.QtCore import QSettings, QStandardPaths
 
 from app.console import files
 
@@ -52,3 +55,29 @@ class RecentFiles:
 
     def clear(self) -> None:
         settings().setValue(self.KEY, [])
+
+
+class FileFolder:
+    """The folder Open and Save As start in: the last one a file was opened from or saved to, else the user's
+    documents folder (their home without one). What window.ini says is input: anything but a folder that is
+    there now is passed over."""
+
+    KEY = "files/folder"
+
+    def start(self) -> str:
+        kept = settings().value(self.KEY)
+        for folder in (kept, QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)):
+            if _is_folder(folder):
+                return folder
+        return str(Path.home())
+
+    def remember(self, path: str) -> None:
+        """`path`, a file just opened or saved: its folder is where the next dialog starts."""
+        settings().setValue(self.KEY, str(Path(path).parent))
+
+
+def _is_folder(value) -> bool:
+    try:
+        return isinstance(value, str) and Path(value).is_absolute() and Path(value).is_dir()
+    except (OSError, ValueError):  # a name too long, a NUL in it
+        return False

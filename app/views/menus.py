@@ -15,6 +15,7 @@ from PySide6.QtWidgets import QDialog, QLabel, QMessageBox, QScrollArea, QVBoxLa
 from app.console.registry import CommandError
 from app.model.workspaces import workspace_title
 from app.views.docs_viewer import DocsViewer
+from app.views.edit_keys import EditKeys
 from app.views.layout_settings import RecentFiles
 from app.views.weak_callback import weak_callback
 
@@ -59,6 +60,7 @@ class Menus(QObject):
         edit = bar.addMenu("&Edit")
         self.undo = self._action(edit, "&Undo", "undo", "Ctrl+Z")
         self.redo = self._action(edit, "&Redo", "redo", "Ctrl+Shift+Z", "Ctrl+Y")
+        self.edit_keys = EditKeys(window, self.undo, self.redo)  # also from a text field with nothing to undo
 
         view = bar.addMenu("&View")
         view.aboutToShow.connect(self._check_docks)
