@@ -32,6 +32,8 @@ def release_qt_windows() -> None:
     if QApplication.instance() is None:
         return
     for widget in QApplication.topLevelWidgets():
+        if _shared(widget):
+            continue
         widget.close()
         widget.deleteLater()
     for _ in range(2):  # the second pass deletes what the first one's deletions posted
@@ -40,6 +42,18 @@ def release_qt_windows() -> None:
     current = QOpenGLContext.currentContext()
     if current is not None:
         current.doneCurrent()
+
+
+SHARED = "shadelab_shared_window"  # a Qt property: the window of `module_window`, which per-test cleanup spares
+
+
+def _shared(widget) -> bool:
+    """A module's shared window or one of its own (its menus, its dialogs)."""
+    while widget is not None:
+        if widget.property(SHARED):
+            return True
+        widget = widget.parentWidget()
+    return False
 
 
 @pytest.fixture(autouse=True)
@@ -95,6 +109,20 @@ def pytest_configure(config):
     set_surface_format()
 
 
+def _never_ask(w) -> None:
+    w.editor.documents.confirm = None
+
+
+def _shown(bot, w):
+    """`w` shown on the test's X server (pytest-xvfb), active, with a frame drawn."""
+    w.show()
+    bot.waitExposed(w)
+    w.windowHandle().requestActivate()  # no window manager under Xvfb activates it for us
+    bot.waitUntil(lambda: w.isActiveWindow(), timeout=5000)
+    bot.waitUntil(lambda: w.viewport.frames > 0, timeout=10000)
+    return w
+
+
 @pytest.fixture
 def make_window(qtbot):
     """Open a main window on its default scene, shown on the test's X server (pytest-xvfb). Unless `asks`, it
@@ -102,22 +130,44 @@ def make_window(qtbot):
     no test gives. The tests of those questions make one that asks, and answer; none asks when the test ends."""
     from app.views.main_window import MainWindow
 
-    def never_ask(w) -> None:
-        w.editor.documents.confirm = None
-
     def make(asks: bool = False):
         w = MainWindow()
         if not asks:
-            never_ask(w)
-        qtbot.addWidget(w, before_close_func=never_ask)
-        w.show()
-        qtbot.waitExposed(w)
-        w.windowHandle().requestActivate()  # no window manager under Xvfb activates it for us
-        qtbot.waitUntil(lambda: w.isActiveWindow(), timeout=5000)
-        qtbot.waitUntil(lambda: w.viewport.frames > 0, timeout=10000)
-        return w
+            _never_ask(w)
+        qtbot.addWidget(w, before_close_func=_never_ask)
+        return _shown(qtbot, w)
 
     return make
+
+
+@pytest.fixture(scope="module")
+def module_window(qapp, request, tmp_path_factory):
+    """One main window for all of a module's tests, as make_window opens it (one takes seconds to open); the
+    per-test cleanup spares it and it closes at the module's end. Its tests share its state: the module must put
+    back what they change before each test (tests run in any order)."""
+    from pytestqt.qtbot import QtBot
+
+    from app.views.main_window import MainWindow
+
+    with pytest.MonkeyPatch.context() as patch:  # its config folder: the tests' own come later
+        patch.setenv("SHADELAB_CONFIG_DIR", str(tmp_path_factory.mktemp("user-config")))
+        w = MainWindow()
+        _never_ask(w)
+        try:
+            _shown(QtBot(request), w)
+            # Spared with its parentless parts (pyqtgraph's menus), which it uses as long as it lives.
+            for widget in qapp.topLevelWidgets():
+                widget.setProperty(SHARED, True)
+            yield w
+        finally:
+            for widget in qapp.topLevelWidgets():
+                widget.setProperty(SHARED, False)
+            # The window goes before its parentless parts, as pytest-qt closes a test's window before
+            # release_qt_windows: a chart deleted after its menu crashes.
+            w.close()
+            w.deleteLater()
+            qapp.processEvents()
+            release_qt_windows()
 
 
 @pytest.fixture

@@ -1,5 +1,8 @@
 """The 3D lights editor with a real window (pytest-qt on Xvfb): the panel's list and properties, the gizmo drag,
-clicking, orbiting and zooming in the viewport, each landing as console commands."""
+clicking, orbiting and zooming in the viewport, each landing as console commands. One window serves the module
+(opening one takes seconds): each test starts from it reset to how it opened."""
+import itertools
+
 import numpy as np
 import pytest
 from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
@@ -7,17 +10,41 @@ from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtWidgets import QApplication, QPushButton
 
 from app.console.text import number
-from app.model.lights3d_gizmo import gizmo_axes, pick_light, pick_object
+from app.model.lights3d import Lights3DCamera
+from app.model.lights3d_gizmo import gizmo_axes, pick_light, pick_object, project
+
+
+def reset(window) -> None:
+    """The workspace as a fresh window shows it, by commands: every edit undone (the scene and the selection it
+    opened with), then the default scene, nothing selected and the default camera, should an undo not reach."""
+    window.run("workspace lights3d")
+    while state(window).history.undo_name() is not None:
+        assert window.run("undo")
+    camera = Lights3DCamera()
+    assert window.run(f"lights3d.reset; lights3d.select none; view.orbit {camera.yaw} {camera.pitch} "
+                      f"{camera.distance}")
+
+
+@pytest.fixture(scope="module")
+def fresh_digest(module_window):
+    """What every model, camera and cvar of the module's window digests to before its first test."""
+    reset(module_window)
+    return module_window.editor.digest()
 
 
 @pytest.fixture
-def lights3d(window, qtbot):
-    """The window on the 3D lights workspace, and the list of the commands it runs from here on."""
-    window.run("workspace lights3d")
+def lights3d(module_window, fresh_digest, qtbot):
+    """The module's window (one for all its tests) on the 3D lights workspace as it opened, and the list of the
+    commands it runs from here on."""
+    window = module_window
+    reset(window)
+    assert window.editor.digest() == fresh_digest  # else an earlier test left something reset() misses
     qtbot.waitUntil(lambda: window.viewport.tool is window.tools["lights3d"])
     commands: list[str] = []
-    window.editor.console.executed_listeners.append(commands.append)
-    return window, commands
+    listen = commands.append
+    window.editor.console.executed_listeners.append(listen)
+    yield window, commands
+    window.editor.console.executed_listeners.remove(listen)
 
 
 def state(window):
@@ -185,3 +212,18 @@ def test_add_menus_add_and_select_and_sizes_follow_the_kind(lights3d):
     form = p.object_box.layout()
     assert [form.isRowVisible(box) for box in p.o_size] == [True, False, False, False]
     assert form.labelForField(p.o_size[0]).text() == "size"
+
+
+def test_add_object_places_it_in_view_clear_of_the_others_and_selects_it(lights3d):
+    window, commands = lights3d
+    add_object = next(b for b in panel(window).findChildren(QPushButton) if b.text() == "+ Object").menu()
+    next(a for a in add_object.actions() if a.text() == "box").trigger()
+    objects = state(window).scene.objects
+    box = objects[5]
+    assert commands == [f"object.add box {' '.join(map(number, box.position))}", "lights3d.select object 5"]
+    assert panel(window).object_box.title() == "Object 5 · box"
+    (lo, hi) = box.bounds
+    assert lo[1] == 0.0 and not any((lo < other_hi).all() and (other_lo < hi).all()
+                                    for other_lo, other_hi in (o.bounds for o in objects[:5]))
+    pixels, depth = project(state(window).camera, size(window), list(itertools.product(*zip(lo, hi))))
+    assert (depth > 0).all() and (pixels >= 0).all() and (pixels <= size(window)).all()

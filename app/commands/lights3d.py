@@ -15,6 +15,7 @@ from app.io import lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
 from app.model.lights3d import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
                                 Scene3D, default_scene, new_object)
+from app.model.lights3d_placement import ground_spot
 from app.model.lights3d_render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
                                                 Lights3DRenderSettings)
 from app.model.lights3d_workspace import ITEM_KINDS, Lights3DWorkspace
@@ -166,15 +167,21 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     @checks.add("object.add", "lights3d")
     def added_object(kind: str, x: float | None = None, y: float | None = None, z: float | None = None,
                      size: list[float] | None = None) -> Scene3D:
-        return state.scene.add_object(new_object(kind, position((x, y, z)), tuple(size) if size else None))
+        at = position((x, y, z))
+        obj = new_object(kind, at, tuple(size) if size else None)
+        if at is None:
+            obj = replace(obj, position=ground_spot(state.scene, state.camera, obj))
+        return state.scene.add_object(obj)
 
     @reg.command("object.add", "kind [x:float] [y:float] [z:float] [size:float...]",
-                 "Add a box, sphere, torus, lprism or plane at its centre x y z (default: standing on the ground at "
-                 "the origin) with its size (object.set has the numbers by kind)",
-                 completer=lambda p: _starting(OBJECT_KINDS, p))
-    def object_add(*args) -> None:
-        apply(added_object(*args), "Add Object")
+                 "Add a box, sphere, torus, lprism or plane at its centre x y z (default: standing on the ground in "
+                 "front of the camera, clear of the other objects) with its size (object.set has the numbers by "
+                 "kind)", completer=lambda p: _starting(OBJECT_KINDS, p))
+    def object_add(kind: str, *args) -> None:
+        apply(added_object(kind, *args), "Add Object")
         obj = state.scene.objects[-1]
+        if not args:  # recorded with the spot it took: a replay does not depend on the camera
+            console.record_args([kind, *map(number, obj.position)])
         console.print(f"object {len(state.scene.objects) - 1}: {obj.kind} at {_words(obj.position)}")
 
     @checks.add("object.move", "lights3d")

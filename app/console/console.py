@@ -141,6 +141,7 @@ class Console:
         self._expanding = 0  # run_lines nesting, and the commands run since the outermost began
         self._expanded = 0
         self.commands_run = 0  # every command dispatched, nested ones too: what a script's budget is charged
+        self._recorded_args: list[str] | None = None  # set by the command running now: see record_args
 
     @property
     def trusted(self) -> bool:
@@ -191,6 +192,11 @@ class Console:
             self._expanding -= 1
             self.origins.pop()
         return ok
+
+    def record_args(self, args: list[str]) -> None:
+        """The command running now is recorded (and told to executed_listeners) with `args` for the typed ones:
+        with the defaults it chose written out, so a replay does not depend on what it read to choose them."""
+        self._recorded_args = list(args)
 
     def print(self, text: str, level: str = "info") -> None:
         if len(text) > MAX_LOG_LINE:
@@ -292,6 +298,7 @@ class Console:
             self.error(f"{name}: {message}")
             return False
         self._depth += 1
+        outer, self._recorded_args = self._recorded_args, None
         try:
             if self._expanding:
                 self._expanded += 1
@@ -300,6 +307,8 @@ class Console:
                                        "(one that calls itself?); stopped")
             self.commands_run += 1
             recorded = self._dispatch(name, args)
+            if self._recorded_args is not None:
+                words = [name, *self._recorded_args]
         except RunawayError:  # unwinds to the outermost alias or config (run_lines): one message, not thousands
             raise
         except Reported:
@@ -312,6 +321,7 @@ class Console:
             return False
         finally:
             self._depth -= 1
+            self._recorded_args = outer
         if recorded is None:
             return False
         text = shlex.join(words)

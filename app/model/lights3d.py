@@ -207,13 +207,11 @@ DEFAULT_SIZES = {"box": (30.0, 30.0, 30.0), "sphere": (15.0, 32), "torus": (20.0
 
 def new_object(kind: str, position=None, size=None) -> Object3D:
     """An object of `kind`, DEFAULT_SIZES[kind] where no size is given; where no position is given it stands on
-    the ground at the origin (its centre half its height up, a plane at y = 0)."""
+    the ground at the origin (its mesh's lowest point at y = 0: a box half its height up, a plane at y = 0)."""
     kind = _kind("object kind", kind, OBJECT_KINDS)
     size = _size(kind, DEFAULT_SIZES[kind] if size is None else size)
     if position is None:
-        half_height = {"box": size[1] / 2, "sphere": size[0], "torus": size[1], "lprism": size[1] / 2,
-                       "plane": 0.0}[kind]
-        position = (0.0, half_height, 0.0)
+        position = (0.0, 0.0 - float(local_mesh(kind, size).positions[:, 1].min()), 0.0)  # 0 - 0: no -0 shown
     return Object3D(kind, size, position)
 
 
