@@ -74,6 +74,31 @@ def test_fill_and_eyedropper_tools(window, painter, qtbot):
     assert window.editor.workspaces["volume"].view.brush == (0, 255, 0, 255)
 
 
+def test_the_fill_tool_takes_its_tolerance_from_the_panel_and_records_it(window, painter, qtbot, tmp_path):
+    volume = window.editor.workspaces["volume"].volume
+    panel = window.workspace_panels["volume"]
+    window.run("sample coords3d 16; slice z 8")  # a gradient, 17 levels a voxel in r (x) and g (y)
+    window.run("brush.color 250 250 250 128")  # no voxel of it has this colour
+    qtbot.waitUntil(lambda: painter.zoom > 0)  # fitted to the new slice: `at` reads the zoom
+    base = volume.digest()
+    panel.tolerance.setValue(17)
+    assert window.editor.console.registry.cvars["fill_tolerance"].value == 17
+    window.run(f"record {tmp_path / 'fill'}")
+    painter.tool = "fill"
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
+    window.run("stop")
+    filled = (volume.data == (250, 250, 250, 128)).all(-1)
+    assert np.count_nonzero(filled) == 9 and filled[8, 5:8, 4:7].all()  # the middle slice, 3 x 3 around (5, 6)
+    fills = [line.split(" ", 1)[1] for line in (tmp_path / "fill.demo").read_text().splitlines() if " fill " in line]
+    assert fills == ["fill z 8 5 6 250 250 250 128 17"]
+    window.run("undo")
+    assert volume.digest() == base
+    window.run("fill_tolerance 0")  # the cvar drives the box, too
+    assert panel.tolerance.value() == 0
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
+    assert np.count_nonzero((volume.data == (250, 250, 250, 128)).all(-1)) == 1
+
+
 def test_painter_keys(window, painter, qtbot):
     painter.setFocus()
     qtbot.keyClick(painter, Qt.Key.Key_E)

@@ -37,6 +37,17 @@ def test_voxel_stroke_fill_rotate(editor):
     assert v.size == (8, 6, 4) and v.data[0, 2:, :, 2].sum() == 0
 
 
+def test_fill_tolerance_takes_in_similar_colours_and_undoes(editor):
+    v = editor.workspaces["volume"].volume
+    assert editor.execute("sample coords3d")  # a gradient: an exact fill takes one voxel
+    base = v.digest()
+    for line, filled in (("fill z 5 32 32 250 250 250 128", 1), ("fill z 5 32 32 250 250 250 128 0", 1),
+                         ("fill z 5 32 32 250 250 250 128 10", 25), ("fill z 5 32 32 250 250 250 128 255", 4096)):
+        assert editor.execute(line)
+        assert np.count_nonzero((v.data == (250, 250, 250, 128)).all(-1)) == filled, line
+        assert editor.execute("undo") and v.digest() == base
+
+
 @pytest.mark.parametrize("line, needle", [
     ("voxel 8 0 0 1 1 1 1", ""),
     ("voxel 0 0 0 256 0 0 255", "0..255"),
@@ -44,6 +55,9 @@ def test_voxel_stroke_fill_rotate(editor):
     ("stroke z 0 1 1 1 1 1 0", "x1 y1"),
     ("stroke z 9 1 1 1 1 1 0 0", ""),
     ("fill z 0 99 0 1 1 1 1", ""),
+    ("fill z 0 0 0 1 1 1 1 256", "fill tolerance must be within 0..255"),
+    ("fill z 0 0 0 1 1 1 1 -1", "fill tolerance must be within 0..255"),
+    ("fill_tolerance 300", ""),
     ("rotate q", "axis must be"),
     ("new 0 4 4", ""),
     ("new 5000 5000 5000", ""),

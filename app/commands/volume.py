@@ -38,6 +38,12 @@ def _axis(axis: str) -> str:
     return axis
 
 
+def _tolerance(tolerance: int) -> int:
+    if not 0 <= tolerance <= 255:
+        raise CommandError(f"fill tolerance must be within 0..255, got {tolerance}")
+    return tolerance
+
+
 def _points(coords: list[int]) -> list[tuple[int, int]]:
     if not coords or len(coords) % 2:
         raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
@@ -64,6 +70,8 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
                       min=5.0, max=1000.0, archive=True))
     brush_round = reg.add_cvar(Cvar("brush_round", bool, True, "Round brush (0: square)", archive=True))
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
+    reg.add_cvar(Cvar("fill_tolerance", int, 0, "The painter's fill takes in voxels whose every channel is within "
+                      "this of the clicked one's (0: one exact colour)", min=0, max=255, archive=True))
     batch = {"mark": 0}
 
     def on_batch(starting: bool) -> None:
@@ -212,12 +220,14 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         volume().clear_preview()
 
     @checks.add("fill", "volume")
-    def fill_args(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int):
+    def fill_args(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int, tolerance: int = 0):
         volume().voxel_of(_axis(axis), index, u, v)  # refuses a point outside the slice
-        return axis, index, u, v, _rgba(r, g, b, a)
+        return axis, index, u, v, _rgba(r, g, b, a), _tolerance(tolerance)
 
-    @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int",
-                 "Flood-fill the region of one colour around (x, y) within a slice")
+    @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int [tolerance:int]",
+                 "Flood-fill the region around (x, y) within a slice whose every channel is within tolerance "
+                 "(0..255, default 0: one exact colour) of the colour at (x, y); on a scalar volume, of the "
+                 "window's colours")
     def fill(*args) -> None:
         edit(volume().fill, *fill_args(*args))
 

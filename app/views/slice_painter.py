@@ -144,7 +144,9 @@ class SliceCanvas(QWidget):
                 self.command.emit(f"pick {' '.join(map(str, self.state.volume.voxel_of(view.axis, view.index, u, v)))}")
         elif tool == "fill":
             colour = (0, 0, 0, 0) if self.erase else view.brush
-            self.command.emit(f"fill {view.axis} {view.index} {u} {v} {' '.join(map(str, colour))}")
+            tolerance = self.editor.console.registry.cvars["fill_tolerance"].value
+            line = f"fill {view.axis} {view.index} {u} {v} {' '.join(map(str, colour))}"
+            self.command.emit(f"{line} {tolerance}" if tolerance else line)  # 0 is the command's default
         else:
             self.points = [(u, v)]
             self.command.emit(self._stroke_line("stroke.preview"))
@@ -220,6 +222,10 @@ class SlicePainter(QWidget):
             button.toggled.connect(lambda on, n=name: on and setattr(self.canvas, "tool", n))
             tools.addButton(button)
             tool_row.addWidget(button)
+        self.tolerance = QSpinBox(minimum=0, maximum=255, toolTip="Fill: take in the voxels whose every channel "
+                                  "(r, g, b, a) is within this of the clicked one's; 0: one exact colour")
+        tool_row.addWidget(QLabel("tolerance"))
+        tool_row.addWidget(self.tolerance)
         tool_row.addWidget(self.erase)
         tool_row.addStretch(1)
         top = QHBoxLayout()
@@ -240,6 +246,7 @@ class SlicePainter(QWidget):
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
         self.size.valueChanged.connect(lambda s: run(f"brush_size {s}"))
         self.round.toggled.connect(lambda on: run(f"brush_round {int(on)}"))
+        self.tolerance.valueChanged.connect(lambda t: run(f"fill_tolerance {t}"))
         self.sync()
 
     def _set_slice(self, axis: str, index: int) -> None:
@@ -257,7 +264,8 @@ class SlicePainter(QWidget):
                                       (self.index, "setMaximum", vol.depth(view.axis) - 1),
                                       (self.index, "setValue", view.index),
                                       (self.size, "setValue", cvars["brush_size"].value),
-                                      (self.round, "setChecked", cvars["brush_round"].value)):
+                                      (self.round, "setChecked", cvars["brush_round"].value),
+                                      (self.tolerance, "setValue", cvars["fill_tolerance"].value)):
             widget.blockSignals(True)
             getattr(widget, setter)(value)
             widget.blockSignals(False)
