@@ -1,7 +1,7 @@
 """The slice painter under Xvfb: mouse strokes become exact voxels and one recorded, undoable command."""
 import numpy as np
 import pytest
-from PySide6.QtCore import QPoint, QRect, Qt
+from PySide6.QtCore import QPoint, QPointF, QRect, Qt
 
 
 @pytest.fixture
@@ -77,7 +77,7 @@ def test_fill_and_eyedropper_tools(window, painter, qtbot):
 def test_the_fill_tool_takes_its_tolerance_from_the_panel_and_records_it(window, painter, qtbot, tmp_path):
     volume = window.editor.workspaces["volume"].volume
     panel = window.workspace_panels["volume"]
-    window.run("sample coords3d 16; slice z 8")  # a gradient, 17 levels a voxel in r (x) and g (y)
+    window.run("sample coords3d 16")  # a gradient, 17 levels a voxel in r (x) and g (y)
     window.run("brush.color 250 250 250 128")  # no voxel of it has this colour
     qtbot.waitUntil(lambda: painter.zoom > 0)  # fitted to the new slice: `at` reads the zoom
     base = volume.digest()
@@ -97,6 +97,17 @@ def test_the_fill_tool_takes_its_tolerance_from_the_panel_and_records_it(window,
     assert panel.tolerance.value() == 0
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
     assert np.count_nonzero((volume.data == (250, 250, 250, 128)).all(-1)) == 1
+
+
+def test_a_loaded_volume_opens_on_its_middle_slice(window, painter, qtbot, tmp_path):
+    panel = window.workspace_panels["volume"]
+    window.run("slice y 0")
+    window.run("sample cornell_box 32")
+    assert panel.index.value() == 16 and panel.axis.currentText() == "y"
+    assert painter.zoom == 0  # refits on the next paint; a click before it fits first (it raised, dividing by 0)
+    assert painter.to_voxel(QPointF(painter.width() / 2, painter.height() / 2)) == (16, 16)
+    volume = window.editor.workspaces["volume"].volume
+    assert (painter.image() == volume.slice("y", 16)).all()  # the canvas shows it (its neighbours are the same)
 
 
 def test_painter_keys(window, painter, qtbot):
@@ -134,7 +145,7 @@ def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):
     window.run("ui.slicepicker")
     picker = window.workspace_panels["volume"].picker
     picker.axis.setCurrentText("y")
-    assert window.editor.workspaces["volume"].view.highlight == ("y", 1)
+    assert window.editor.workspaces["volume"].view.highlight == ("y", 16)  # the sample opened on its middle slice
     vp = window.viewport
     centre = QPoint(vp.width() // 2, vp.height() // 2)
     qtbot.mouseMove(vp, centre)

@@ -48,6 +48,20 @@ def test_fill_tolerance_takes_in_similar_colours_and_undoes(editor):
         assert editor.execute("undo") and v.digest() == base
 
 
+def test_a_load_opens_the_painter_on_the_middle_slice(editor):
+    view = editor.workspaces["volume"].view
+    assert editor.execute("slice z 3; sample cornell_box 24")
+    assert (view.axis, view.index) == ("z", 12)
+    assert editor.execute("slice y 2; new 8 40 2")  # a new volume keeps the slice
+    assert (view.axis, view.index) == ("y", 2)
+    assert editor.execute("save tall.npy; slice y 0; sample coords3d 16")
+    assert (view.axis, view.index) == ("y", 8)
+    assert editor.execute("load tall.npy")  # 40 voxels high: slice 0 of a file is often empty
+    assert (view.axis, view.index) == ("y", 20)
+    assert editor.execute("slice x 0; undo")  # back to the sample: the slice is kept within it
+    assert (view.axis, view.index) == ("x", 0)
+
+
 @pytest.mark.parametrize("line, needle", [
     ("voxel 8 0 0 1 1 1 1", ""),
     ("voxel 0 0 0 256 0 0 255", "0..255"),

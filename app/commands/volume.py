@@ -85,14 +85,18 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     def volume() -> Volume:
         return state.volume
 
-    def replace(data, what: str, step: str, transfer: TransferFunction | None = None) -> None:
+    def replace(data, what: str, step: str, transfer: TransferFunction | None = None, loaded: bool = True) -> None:
         """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
-        the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over."""
+        the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over.
+        A loaded volume (a file, a sample) opens the painter on its middle slice; a new one keeps the slice."""
         if data.ndim == 3:
             volume().replace_scalars(data, transfer, name=step, copy=False)
         else:
             volume().replace(data, step)
-        state.clamp_slice()
+        if loaded:
+            state.middle_slice()
+        else:
+            state.clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
         if (scalars := volume().scalars) is not None:
             chosen = ("kept in the file" if transfer is not None else
@@ -115,7 +119,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
-        replace(Volume.new(w, h, d).data, "new volume", "New Volume")
+        replace(Volume.new(w, h, d).data, "new volume", "New Volume", loaded=False)
 
     @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
                  "float ones through a window)",

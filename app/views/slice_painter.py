@@ -50,12 +50,20 @@ class SliceCanvas(QWidget):
         self.zoom = max(0.5, min(self.width() / u, self.height() / v) * 0.92)
         self.offset = QPointF((self.width() - u * self.zoom) / 2, (self.height() - v * self.zoom) / 2)
 
+    def fitted(self) -> float:
+        """Pixels per voxel; fits the slice first when it changed shape and was not drawn since (a click can come
+        before the paint)."""
+        if self.zoom == 0:
+            self.fit()
+        return self.zoom
+
     def to_voxel(self, pos: QPointF) -> tuple[int, int]:
-        p = (pos - self.offset) / self.zoom
+        zoom = self.fitted()  # before reading the offset, which fitting moves
+        p = (pos - self.offset) / zoom
         return int(np.floor(p.x())), int(np.floor(p.y()))
 
     def zoom_about(self, factor: float, pos: QPointF) -> None:
-        new = min(max(self.zoom * factor, 0.25), 256.0)
+        new = min(max(self.fitted() * factor, 0.25), 256.0)  # fitted first: the offset below is the fit's
         self.offset = pos - (pos - self.offset) * (new / self.zoom)
         self.zoom = new
         self.update()
@@ -83,8 +91,7 @@ class SliceCanvas(QWidget):
         return np.ascontiguousarray(rgba.round().astype(np.uint8))
 
     def paintEvent(self, _event) -> None:
-        if self.zoom == 0:
-            self.fit()
+        self.fitted()
         painter = QPainter(self)
         painter.fillRect(self.rect(), QColor(40, 42, 50))
         data = self.image()
