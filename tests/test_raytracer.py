@@ -10,7 +10,7 @@ from app.model.render_modes import MODES
 from app.model.volume import Volume
 from app.model.volume_samples import coords3d, cornell_box
 from app.model.volume_view import VolumeView
-from app.reference.volume import render as reference
+from app.reference.volume import Scene, render as reference
 from app.resources import SHADERS
 
 SIZE = (48, 48)
@@ -180,3 +180,44 @@ def test_non_cube_two_pass_matches_one_pass(gl, tracer):
     one = gpu(gl, tracer, data, VIEW, mode=4)
     assert np.abs(two - one).max() <= 2 / 255
     assert rmse(one, cpu(data, VIEW, 4)) < 0.01
+
+
+ORANGE = (255, 140, 40, 255)
+LIT = [m for m in sorted(MODES) if MODES[m].kind == "phong"]  # F3, F5-F8, F10, F11
+
+
+def thin(kind: str, z: int) -> np.ndarray:
+    """One orange voxel, or a 1-voxel line across x, on slice z of an empty 8^3 volume."""
+    data = np.zeros((8, 8, 8, 4), np.uint8)
+    data[z, 4, 4 if kind == "voxel" else slice(1, 7)] = ORANGE
+    return data
+
+
+@pytest.mark.parametrize("z", [4, 0], ids=["inside", "on the box's face"])
+@pytest.mark.parametrize("kind", ["voxel", "line"])
+def test_a_lone_voxel_and_a_thin_line_are_lit_in_every_lit_mode(gl, tracer, kind, z):
+    """Issue 25: a 1-voxel orange stroke came out near-black in the Phong modes. The filtered sample at the surface
+    mixes in the empty neighbours' transparent black (42 % of the colour, 42 % opaque), and on the box's face the
+    gradient, clamped to the edge, pointed into the volume: N.L < 0 and the voxel shadowed itself."""
+    data = thin(kind, z)
+    view = VolumeView(camera=OrbitCamera(yaw=25, pitch=18, distance=3.0))
+    covered = np.abs(cpu(data, view, 2) - np.array(view.background) / 255).sum(-1) > 0.02
+    assert covered.sum() >= (20 if kind == "voxel" else 80)
+    colour = np.array(ORANGE[:3]) / 255
+    for mode in LIT:
+        image, truth = gpu(gl, tracer, data, view, mode=mode), cpu(data, view, mode)
+        lit = image[covered].mean(0)
+        assert lit.sum() > 0.45 * colour.sum(), (mode, lit)  # F11 mixes in a quarter of the background
+        assert lit[0] > lit[1] > lit[2], (mode, lit)  # still orange
+        err = np.abs(image - truth)
+        assert rmse(image, truth) < 0.02 and np.percentile(err, 95) < 0.02, mode
+        assert np.abs(image[covered] - truth[covered]).mean() < 0.03, mode
+
+
+def test_the_reference_surface_takes_the_colour_of_its_voxels_not_their_empty_neighbours():
+    scene = Scene(thin("voxel", 0))
+    centre = (np.array([4, 4, 0]) + 0.5) / 8  # texture space (x, y, z)
+    near = centre + np.array([[0.0, 0.0, 0.0], [0.07, 0.0, 0.0], [0.0, -0.07, 0.07], [0.0, 0.0, -0.0625]])
+    assert np.allclose(scene.material(near), np.array(ORANGE) / 255)  # the last point lies on the box's face
+    assert scene.sample(near)[1, 3] < 0.5  # the filtered sample there is half transparent black
+    assert np.allclose(scene.material(np.array([[0.9, 0.9, 0.9]])), 0.0)  # nothing near: nothing

@@ -1,7 +1,7 @@
 """The slice painter under Xvfb: mouse strokes become exact voxels and one recorded, undoable command."""
 import numpy as np
 import pytest
-from PySide6.QtCore import QPoint, QRect, Qt
+from PySide6.QtCore import QPoint, QPointF, QRect, Qt
 
 
 @pytest.fixture
@@ -74,6 +74,42 @@ def test_fill_and_eyedropper_tools(window, painter, qtbot):
     assert window.editor.workspaces["volume"].view.brush == (0, 255, 0, 255)
 
 
+def test_the_fill_tool_takes_its_tolerance_from_the_panel_and_records_it(window, painter, qtbot, tmp_path):
+    volume = window.editor.workspaces["volume"].volume
+    panel = window.workspace_panels["volume"]
+    window.run("sample coords3d 16")  # a gradient, 17 levels a voxel in r (x) and g (y)
+    window.run("brush.color 250 250 250 128")  # no voxel of it has this colour
+    qtbot.waitUntil(lambda: painter.zoom > 0)  # fitted to the new slice: `at` reads the zoom
+    base = volume.digest()
+    panel.tolerance.setValue(17)
+    assert window.editor.console.registry.cvars["fill_tolerance"].value == 17
+    window.run(f"record {tmp_path / 'fill'}")
+    painter.tool = "fill"
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
+    window.run("stop")
+    filled = (volume.data == (250, 250, 250, 128)).all(-1)
+    assert np.count_nonzero(filled) == 9 and filled[8, 5:8, 4:7].all()  # the middle slice, 3 x 3 around (5, 6)
+    fills = [line.split(" ", 1)[1] for line in (tmp_path / "fill.demo").read_text().splitlines() if " fill " in line]
+    assert fills == ["fill z 8 5 6 250 250 250 128 17"]
+    window.run("undo")
+    assert volume.digest() == base
+    window.run("fill_tolerance 0")  # the cvar drives the box, too
+    assert panel.tolerance.value() == 0
+    qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
+    assert np.count_nonzero((volume.data == (250, 250, 250, 128)).all(-1)) == 1
+
+
+def test_a_loaded_volume_opens_on_its_middle_slice(window, painter, qtbot, tmp_path):
+    panel = window.workspace_panels["volume"]
+    window.run("slice y 0")
+    window.run("sample cornell_box 32")
+    assert panel.index.value() == 16 and panel.axis.currentText() == "y"
+    assert painter.zoom == 0  # refits on the next paint; a click before it fits first (it raised, dividing by 0)
+    assert painter.to_voxel(QPointF(painter.width() / 2, painter.height() / 2)) == (16, 16)
+    volume = window.editor.workspaces["volume"].volume
+    assert (painter.image() == volume.slice("y", 16)).all()  # the canvas shows it (its neighbours are the same)
+
+
 def test_painter_keys(window, painter, qtbot):
     painter.setFocus()
     qtbot.keyClick(painter, Qt.Key.Key_E)
@@ -109,7 +145,7 @@ def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):
     window.run("ui.slicepicker")
     picker = window.workspace_panels["volume"].picker
     picker.axis.setCurrentText("y")
-    assert window.editor.workspaces["volume"].view.highlight == ("y", 1)
+    assert window.editor.workspaces["volume"].view.highlight == ("y", 16)  # the sample opened on its middle slice
     vp = window.viewport
     centre = QPoint(vp.width() // 2, vp.height() // 2)
     qtbot.mouseMove(vp, centre)

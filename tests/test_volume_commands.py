@@ -37,6 +37,31 @@ def test_voxel_stroke_fill_rotate(editor):
     assert v.size == (8, 6, 4) and v.data[0, 2:, :, 2].sum() == 0
 
 
+def test_fill_tolerance_takes_in_similar_colours_and_undoes(editor):
+    v = editor.workspaces["volume"].volume
+    assert editor.execute("sample coords3d")  # a gradient: an exact fill takes one voxel
+    base = v.digest()
+    for line, filled in (("fill z 5 32 32 250 250 250 128", 1), ("fill z 5 32 32 250 250 250 128 0", 1),
+                         ("fill z 5 32 32 250 250 250 128 10", 25), ("fill z 5 32 32 250 250 250 128 255", 4096)):
+        assert editor.execute(line)
+        assert np.count_nonzero((v.data == (250, 250, 250, 128)).all(-1)) == filled, line
+        assert editor.execute("undo") and v.digest() == base
+
+
+def test_a_load_opens_the_painter_on_the_middle_slice(editor):
+    view = editor.workspaces["volume"].view
+    assert editor.execute("slice z 3; sample cornell_box 24")
+    assert (view.axis, view.index) == ("z", 12)
+    assert editor.execute("slice y 2; new 8 40 2")  # a new volume keeps the slice
+    assert (view.axis, view.index) == ("y", 2)
+    assert editor.execute("save tall.npy; slice y 0; sample coords3d 16")
+    assert (view.axis, view.index) == ("y", 8)
+    assert editor.execute("load tall.npy")  # 40 voxels high: slice 0 of a file is often empty
+    assert (view.axis, view.index) == ("y", 20)
+    assert editor.execute("slice x 0; undo")  # back to the sample: the slice is kept within it
+    assert (view.axis, view.index) == ("x", 0)
+
+
 @pytest.mark.parametrize("line, needle", [
     ("voxel 8 0 0 1 1 1 1", ""),
     ("voxel 0 0 0 256 0 0 255", "0..255"),
@@ -44,6 +69,9 @@ def test_voxel_stroke_fill_rotate(editor):
     ("stroke z 0 1 1 1 1 1 0", "x1 y1"),
     ("stroke z 9 1 1 1 1 1 0 0", ""),
     ("fill z 0 99 0 1 1 1 1", ""),
+    ("fill z 0 0 0 1 1 1 1 256", "fill tolerance must be within 0..255"),
+    ("fill z 0 0 0 1 1 1 1 -1", "fill tolerance must be within 0..255"),
+    ("fill_tolerance 300", ""),
     ("rotate q", "axis must be"),
     ("new 0 4 4", ""),
     ("new 5000 5000 5000", ""),

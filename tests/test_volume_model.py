@@ -1,4 +1,5 @@
 """The voxel volume model: slices, painting, undo and dirty boxes (pure numpy, no GL)."""
+import math
 import tracemalloc
 
 import numpy as np
@@ -9,6 +10,7 @@ from scipy import ndimage
 
 from app.model import volume as vm
 from app.model.volume import AXES, Box, Volume, VolumeError
+from app.model.volume_samples import coords3d
 
 RED = (255, 0, 0, 255)
 BLUE = (0, 0, 255, 255)
@@ -309,10 +311,40 @@ def test_fill_replaces_an_exact_colour_and_erases():
     assert not vol.data.any()
 
 
+@pytest.mark.parametrize("tolerance, filled", [(0, 1), (10, 25), (255, 64 * 64)])
+def test_fill_tolerance_on_the_gradient_sample(tolerance, filled):
+    """coords3d steps about 4 levels a voxel in r (x) and g (y): 10 takes in two voxels each way, 255 the slice."""
+    vol = Volume(coords3d(64))
+    base = vol.digest()
+    colour = (250, 250, 250, 128)  # no voxel of coords3d has it
+    box = vol.fill("z", 5, 32, 32, colour, tolerance)
+    filled_voxels = (vol.data == colour).all(-1)
+    assert np.count_nonzero(filled_voxels) == np.count_nonzero(filled_voxels[5]) == filled
+    side = math.isqrt(filled)
+    lo, hi = 32 - side // 2, 32 + side - side // 2
+    assert box == (Box(lo, lo, 5, hi, hi, 6) if tolerance < 255 else Box(0, 0, 5, 64, 64, 6))
+    assert filled_voxels[5, lo:hi, lo:hi].all()
+    assert vol.undo() and vol.digest() == base
+
+
+def test_fill_tolerance_holds_for_every_channel_and_stays_4_connected():
+    vol = Volume.new(5, 1, 1)
+    for u, colour in enumerate([(10, 10, 10, 255), (60, 10, 10, 255), (10, 10, 10, 200), (0, 0, 0, 0),
+                                (10, 10, 10, 255)]):
+        vol.set_voxel(u, 0, 0, colour)
+    base = vol.digest()
+    for tolerance, x1 in ((49, 1), (50, 2), (55, 3), (254, 3), (255, 5)):
+        # r is 50 off, then alpha 55, then the empty voxel 255: the seed's own colour beyond it is not connected
+        assert vol.fill("z", 0, 0, 0, RED, tolerance) == Box(0, 0, 0, x1, 1, 1)
+        assert vol.undo() and vol.digest() == base
+    assert vol.fill("z", 0, 0, 0, RED, 255) and vol.fill("z", 0, 2, 0, RED, 255) is None  # all RED: no step
+
+
 def test_fill_refusals():
     vol = Volume.new(4, 3, 2)
     for args in (("z", 0, 4, 0, RED), ("z", 0, 0, -1, RED), ("q", 0, 0, 0, RED), ("z", 2, 0, 0, RED),
-                 ("z", 0, 0, 0, (0, 0, 0))):
+                 ("z", 0, 0, 0, (0, 0, 0)), ("z", 0, 0, 0, RED, 256), ("z", 0, 0, 0, RED, -1),
+                 ("z", 0, 0, 0, RED, 2.5)):
         with pytest.raises(VolumeError):
             vol.fill(*args)
     assert vol.version == 0 and vol.undo_depth == 0
@@ -617,7 +649,7 @@ ops = st.one_of(
     st.tuples(st.just("set"), small, small, small, colours),
     st.tuples(st.just("stroke"), axes, small, st.integers(1, 4), colours,
               st.lists(st.tuples(st.integers(-3, 9), st.integers(-3, 9)), min_size=1, max_size=4), st.booleans()),
-    st.tuples(st.just("fill"), axes, small, small, small, colours),
+    st.tuples(st.just("fill"), axes, small, small, small, colours, st.sampled_from([0, 0, 1, 128, 255])),
     st.tuples(st.just("rotate"), axes, st.integers(-2, 5)),
     st.tuples(st.just("smooth"), st.none() | st.tuples(small, small, small, small, small, small)),
 )
@@ -638,7 +670,7 @@ def apply(vol: Volume, op: tuple) -> Box | None:
     if kind == "stroke":
         return vol.stroke(axis, index, op[3], op[4], op[5], op[6])
     us, vs = vol.slice_size(axis)
-    return vol.fill(axis, index, op[3] % us, op[4] % vs, op[5])
+    return vol.fill(axis, index, op[3] % us, op[4] % vs, op[5], op[6])
 
 
 @settings(max_examples=60, deadline=None, database=None)

@@ -38,6 +38,12 @@ def _axis(axis: str) -> str:
     return axis
 
 
+def _tolerance(tolerance: int) -> int:
+    if not 0 <= tolerance <= 255:
+        raise CommandError(f"fill tolerance must be within 0..255, got {tolerance}")
+    return tolerance
+
+
 def _points(coords: list[int]) -> list[tuple[int, int]]:
     if not coords or len(coords) % 2:
         raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
@@ -61,6 +67,8 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         reg.add_cvar(Cvar(name, kind, default, text, min=lo, max=hi, archive=True))
     brush_round = reg.add_cvar(Cvar("brush_round", bool, True, "Round brush (0: square)", archive=True))
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
+    reg.add_cvar(Cvar("fill_tolerance", int, 0, "The painter's fill takes in voxels whose every channel is within "
+                      "this of the clicked one's (0: one exact colour)", min=0, max=255, archive=True))
     batch = {"mark": 0}
 
     def on_batch(starting: bool) -> None:
@@ -74,14 +82,18 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     def volume() -> Volume:
         return state.volume
 
-    def replace(data, what: str, step: str, transfer: TransferFunction | None = None) -> None:
+    def replace(data, what: str, step: str, transfer: TransferFunction | None = None, loaded: bool = True) -> None:
         """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
-        the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over."""
+        the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over.
+        A loaded volume (a file, a sample) opens the painter on its middle slice; a new one keeps the slice."""
         if data.ndim == 3:
             volume().replace_scalars(data, transfer, name=step, copy=False)
         else:
             volume().replace(data, step)
-        state.clamp_slice()
+        if loaded:
+            state.middle_slice()
+        else:
+            state.clamp_slice()
         console.print(f"{what}: {'x'.join(map(str, volume().size))}")
         if (scalars := volume().scalars) is not None:
             chosen = ("kept in the file" if transfer is not None else
@@ -104,7 +116,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
     def new(w: int, h: int, d: int) -> None:
-        replace(Volume.new(w, h, d).data, "new volume", "New Volume")
+        replace(Volume.new(w, h, d).data, "new volume", "New Volume", loaded=False)
 
     @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
                  "float ones through a window)",
@@ -209,12 +221,14 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         volume().clear_preview()
 
     @checks.add("fill", "volume")
-    def fill_args(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int):
+    def fill_args(axis: str, index: int, u: int, v: int, r: int, g: int, b: int, a: int, tolerance: int = 0):
         volume().voxel_of(_axis(axis), index, u, v)  # refuses a point outside the slice
-        return axis, index, u, v, _rgba(r, g, b, a)
+        return axis, index, u, v, _rgba(r, g, b, a), _tolerance(tolerance)
 
-    @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int",
-                 "Flood-fill the region of one colour around (x, y) within a slice")
+    @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int [tolerance:int]",
+                 "Flood-fill the region around (x, y) within a slice whose every channel is within tolerance "
+                 "(0..255, default 0: one exact colour) of the colour at (x, y); on a scalar volume, of the "
+                 "window's colours")
     def fill(*args) -> None:
         edit(volume().fill, *fill_args(*args))
 

@@ -101,6 +101,10 @@ class RayTracer:
         self.shaders = shaders
         self.volume = VolumeTexture(ctx)
         self.distance = DistanceTexture(ctx)
+        # Trilinear with a transparent border: the volume floats in empty space, so a voxel on the box's face is
+        # a surface with an outward normal, as one inside is (clamped to its edge, its gradient pointed inwards
+        # and the voxel shaded black). The reference samples the same way.
+        self.linear = ctx.sampler(filter=(moderngl.LINEAR, moderngl.LINEAR), border_color=(0.0, 0.0, 0.0, 0.0))
         self.nearest = ctx.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), repeat_x=False, repeat_y=False,
                                    repeat_z=False)
         self.cube = ctx.buffer(CORNERS[FACES].tobytes())
@@ -140,6 +144,7 @@ class RayTracer:
         uniforms = self._uniforms(volume, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
         self.volume.sync(volume).use(0)
+        self.linear.use(0)
         self.volume.texture.use(1)
         self.nearest.use(1)
         if mode.distance:
@@ -164,6 +169,7 @@ class RayTracer:
             self._set(program, uniforms)
             fbo.use()
             self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
+        self.linear.clear(0)
         self.nearest.clear(1)
 
     def _entry_pass(self, size, view_proj: np.ndarray, extent: np.ndarray) -> moderngl.Texture:

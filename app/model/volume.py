@@ -368,19 +368,25 @@ class Volume:
         region = plane[v0:v0 + cover.shape[0], u0:u0 + cover.shape[1]]
         return self._paint_plane(axis, index, region, cover & (region != colour).any(-1), colour, u0, v0, "Stroke")
 
-    def fill(self, axis: str, index: int, u: int, v: int, rgba: Sequence[int]) -> Box | None:
-        """Flood the 4-connected region of the slice that has exactly the colour at (u, v)."""
+    def fill(self, axis: str, index: int, u: int, v: int, rgba: Sequence[int], tolerance: int = 0) -> Box | None:
+        """Flood the 4-connected region of the slice around (u, v) whose every channel (r, g, b, a) is within
+        `tolerance` (0..255) of the colour at (u, v); 0: exactly that colour."""
         self._settle_preview()
         plane = self._plane(axis, index)
-        u, v, colour = _int("u", u), _int("v", v), _colour(rgba)
+        u, v, colour, tolerance = _int("u", u), _int("v", v), _colour(rgba), _int("fill tolerance", tolerance)
         vs, us = plane.shape[:2]
         if not (0 <= u < us and 0 <= v < vs):
             raise VolumeError(f"fill point ({u}, {v}) is outside the {us} x {vs} slice")
-        target = plane[v, u]
-        if np.array_equal(target, colour):
-            return None
-        labels, _ = ndimage.label((plane == target).all(-1))  # default structure: 4-connected
-        return self._paint_plane(axis, index, plane, labels == labels[v, u], colour, 0, 0, "Fill")
+        if not 0 <= tolerance <= 255:
+            raise VolumeError(f"fill tolerance must be within 0..255, got {tolerance}")
+        seed = plane[v, u].tolist()
+        similar = np.ones((vs, us), bool)
+        for c in range(4):  # a channel at a time, compared in the voxels' own uint8
+            lo, hi = max(seed[c] - tolerance, 0), min(seed[c] + tolerance, 255)
+            similar &= (plane[..., c] >= lo) & (plane[..., c] <= hi)
+        labels, _ = ndimage.label(similar)  # default structure: 4-connected
+        changes = (labels == labels[v, u]) & (plane != colour).any(-1)  # nothing when the seed has the colour
+        return self._paint_plane(axis, index, plane, changes, colour, 0, 0, "Fill")
 
     def smooth(self, box: Box | None = None) -> Box | None:
         """3x3x3 box filter over `box` (default: all), reading neighbours beyond it, edge-clamped at the border.

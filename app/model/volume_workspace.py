@@ -61,6 +61,11 @@ class VolumeWorkspace(Workspace):
         if view.highlight and view.highlight[1] >= volume.depth(view.highlight[0]):
             view.highlight = None
 
+    def middle_slice(self) -> None:
+        """After a load: the painter edits the middle slice of its axis (slice 0 of a scan is mostly empty)."""
+        self.view.index = self.volume.depth(self.view.axis) // 2
+        self.clamp_slice()
+
     def version(self) -> tuple:
         return self.volume.version, self.view.key()
 

@@ -29,11 +29,36 @@ class Scene:
         return world_to_texture(p, self.extent)
 
     def sample(self, t: np.ndarray, nearest: bool = False) -> np.ndarray:
-        """RGBA at texture coordinates t (..., 3): texel centres at (i + 0.5) / size, clamped."""
+        """RGBA at texture coordinates t (..., 3): texel centres at (i + 0.5) / size; trilinear with a transparent
+        border (the GPU's sampler), nearest clamped to the edge."""
         coords = [t[..., 2] * self.size[2] - 0.5, t[..., 1] * self.size[1] - 0.5, t[..., 0] * self.size[0] - 0.5]
         if nearest:
             coords = [np.floor(c + 0.5) for c in coords]
-        return np.stack([map_coordinates(self.rgba[..., c], coords, order=1, mode="nearest") for c in range(4)], -1)
+            return np.stack([map_coordinates(self.rgba[..., c], coords, order=0, mode="nearest") for c in range(4)], -1)
+        return np.stack([map_coordinates(self.rgba[..., c], coords, order=1, mode="grid-constant") for c in range(4)],
+                        -1)
+
+    def material(self, t: np.ndarray) -> np.ndarray:
+        """The colour and alpha under hits at t (n, 3): the 8 texels of the trilinear filter weighted by their
+        weight times their alpha (associated colour), those beyond the edge empty; as the GPU's material_at."""
+        u = t * self.size - 0.5
+        base = np.floor(u)
+        f = u - base
+        total = np.zeros((len(t), 4))  # rgb: sum w a c, a: sum w a
+        alpha = np.zeros(len(t))       # sum w a a
+        for corner in np.ndindex(2, 2, 2):
+            o = np.array(corner[::-1])  # (x, y, z) offsets
+            p = (base + o).astype(np.int64)
+            inside = ((p >= 0) & (p < self.size)).all(-1)
+            q = np.where(inside[:, None], p, 0)
+            v = self.rgba[q[:, 2], q[:, 1], q[:, 0]]
+            wa = np.where(o == 1, f, 1.0 - f).prod(-1) * v[:, 3] * inside
+            total += wa[:, None] * np.concatenate([v[:, :3], np.ones((len(t), 1))], -1)
+            alpha += wa * v[:, 3]
+        weight = total[:, 3:]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out = np.concatenate([total[:, :3] / weight, alpha[:, None] / weight], -1)
+        return np.where(weight > 0, out, 0.0)
 
     @staticmethod
     def intensity(s: np.ndarray) -> np.ndarray:
@@ -64,7 +89,8 @@ def _march(scene: Scene, a: np.ndarray, b: np.ndarray, steps_per_unit: float, fi
 
 def _first_hit(scene: Scene, entry: np.ndarray, pos: np.ndarray, valid: np.ndarray, nearest: bool = False):
     """The first sample over the threshold, then bisected against the sample before it (as the GPU).
-    Returns (hit, point, colour, index): the bisected point never lies past the sample at step `index`."""
+    Returns (hit, point, colour, index): the bisected point never lies past the sample at step `index`; the colour
+    is its voxels' (Scene.material), or the nearest sample's."""
     s = scene.sample(pos, nearest)
     over = (scene.intensity(s) > rm.THRESHOLD) & valid
     hit = over.any(-1)
@@ -79,9 +105,9 @@ def _first_hit(scene: Scene, entry: np.ndarray, pos: np.ndarray, valid: np.ndarr
             m = scene.sample(mid)
             inside = scene.intensity(m) > rm.THRESHOLD
             hi = np.where(inside[:, None], mid, hi)
-            colour = np.where(inside[:, None], m, colour)
             lo = np.where(inside[:, None], lo, mid)
         t = hi
+        colour = scene.material(t)
     return hit, t, colour, index
 
 

@@ -50,12 +50,20 @@ class SliceCanvas(QWidget):
         self.zoom = max(0.5, min(self.width() / u, self.height() / v) * 0.92)
         self.offset = QPointF((self.width() - u * self.zoom) / 2, (self.height() - v * self.zoom) / 2)
 
+    def fitted(self) -> float:
+        """Pixels per voxel; fits the slice first when it changed shape and was not drawn since (a click can come
+        before the paint)."""
+        if self.zoom == 0:
+            self.fit()
+        return self.zoom
+
     def to_voxel(self, pos: QPointF) -> tuple[int, int]:
-        p = (pos - self.offset) / self.zoom
+        zoom = self.fitted()  # before reading the offset, which fitting moves
+        p = (pos - self.offset) / zoom
         return int(np.floor(p.x())), int(np.floor(p.y()))
 
     def zoom_about(self, factor: float, pos: QPointF) -> None:
-        new = min(max(self.zoom * factor, 0.25), 256.0)
+        new = min(max(self.fitted() * factor, 0.25), 256.0)  # fitted first: the offset below is the fit's
         self.offset = pos - (pos - self.offset) * (new / self.zoom)
         self.zoom = new
         self.update()
@@ -83,8 +91,7 @@ class SliceCanvas(QWidget):
         return np.ascontiguousarray(rgba.round().astype(np.uint8))
 
     def paintEvent(self, _event) -> None:
-        if self.zoom == 0:
-            self.fit()
+        self.fitted()
         painter = QPainter(self)
         painter.fillRect(self.rect(), QColor(40, 42, 50))
         data = self.image()
@@ -144,7 +151,9 @@ class SliceCanvas(QWidget):
                 self.command.emit(f"pick {' '.join(map(str, self.state.volume.voxel_of(view.axis, view.index, u, v)))}")
         elif tool == "fill":
             colour = (0, 0, 0, 0) if self.erase else view.brush
-            self.command.emit(f"fill {view.axis} {view.index} {u} {v} {' '.join(map(str, colour))}")
+            tolerance = self.editor.console.registry.cvars["fill_tolerance"].value
+            line = f"fill {view.axis} {view.index} {u} {v} {' '.join(map(str, colour))}"
+            self.command.emit(f"{line} {tolerance}" if tolerance else line)  # 0 is the command's default
         else:
             self.points = [(u, v)]
             self.command.emit(self._stroke_line("stroke.preview"))
@@ -220,6 +229,10 @@ class SlicePainter(QWidget):
             button.toggled.connect(lambda on, n=name: on and setattr(self.canvas, "tool", n))
             tools.addButton(button)
             tool_row.addWidget(button)
+        self.tolerance = QSpinBox(minimum=0, maximum=255, toolTip="Fill: take in the voxels whose every channel "
+                                  "(r, g, b, a) is within this of the clicked one's; 0: one exact colour")
+        tool_row.addWidget(QLabel("tolerance"))
+        tool_row.addWidget(self.tolerance)
         tool_row.addWidget(self.erase)
         tool_row.addStretch(1)
         top = QHBoxLayout()
@@ -240,6 +253,7 @@ class SlicePainter(QWidget):
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
         self.size.valueChanged.connect(lambda s: run(f"brush_size {s}"))
         self.round.toggled.connect(lambda on: run(f"brush_round {int(on)}"))
+        self.tolerance.valueChanged.connect(lambda t: run(f"fill_tolerance {t}"))
         self.sync()
 
     def _set_slice(self, axis: str, index: int) -> None:
@@ -257,7 +271,8 @@ class SlicePainter(QWidget):
                                       (self.index, "setMaximum", vol.depth(view.axis) - 1),
                                       (self.index, "setValue", view.index),
                                       (self.size, "setValue", cvars["brush_size"].value),
-                                      (self.round, "setChecked", cvars["brush_round"].value)):
+                                      (self.round, "setChecked", cvars["brush_round"].value),
+                                      (self.tolerance, "setValue", cvars["fill_tolerance"].value)):
             widget.blockSignals(True)
             getattr(widget, setter)(value)
             widget.blockSignals(False)
