@@ -14,6 +14,7 @@ from app.console.binds import Binds
 from app.console.console import Console
 from app.console.demo import Clock, MonotonicClock
 from app.console.demos import Demos
+from app.console.registry import SCRIPTS
 from app.model.workspace import Workspace, Workspaces
 from app.model.workspaces import DEFAULT_WORKSPACE, WORKSPACES
 
@@ -43,9 +44,9 @@ class Editor:
     def run_start_configs(self) -> None:
         """default.cfg and shadelab.cfg from the resources, then the user's archived config."""
         for name in START_CONFIGS:
-            builtins.exec_file(self.console, name)
+            builtins.exec_file(self.console, name, trusted=True)
         if files.user_config().is_file():
-            builtins.exec_file(self.console, str(files.user_config()))
+            builtins.exec_file(self.console, str(files.user_config()), trusted=True)
 
     def execute(self, line: str) -> bool:
         return self.console.execute(line)
@@ -82,7 +83,8 @@ class Editor:
         for state in self.workspaces:
             lines.append(f"workspace {state.name}")
             lines += state.opening_commands(lambda suffix=None, state=state: self._snapshot(state, demo_path, suffix))
-        lines += [c.assignment() for _name, c in sorted(self.console.registry.cvars.items())]
+        # the settings a demo may set; the user's own (scr_budget) are not the demo's to carry
+        lines += [c.assignment() for _name, c in sorted(self.console.registry.cvars.items()) if c.allow == SCRIPTS]
         lines.append(f"workspace {self.workspace}")
         return lines
 

@@ -238,11 +238,11 @@ def test_a_line_is_recorded_as_typed(console):
 def test_help_names_the_owning_workspace(console):
     console.registry.scope = "b"
     console.execute("help light.add")
-    assert out(console) == "[b] light.add <x> <y> <z>: Add a 3D light"
+    assert out(console) == "[b] light.add <x> <y> <z>: Add a 3D light (who may run it: the user only)"
     console.execute("help a:light.add")
-    assert out(console) == "[a] light.add <x> <y>: Add a 2D light"
+    assert out(console) == "[a] light.add <x> <y>: Add a 2D light (who may run it: the user only)"
     console.execute("help echo")
-    assert out(console) == "echo [<words>...]: Print the words"  # a global one unmarked
+    assert out(console) == "echo [<words>...]: Print the words (who may run it: scripts too)"  # global: unmarked
     assert not console.execute("help nothing")
     assert errors(console)[-1] == "help: no command, cvar or alias 'nothing'"
 

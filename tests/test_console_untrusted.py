@@ -59,29 +59,38 @@ READERS = ["exec {}", "lua {}", "load {}", "scene.load {}", "play {}", "lighting
 
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("command", WRITERS)
-def test_untrusted_lines_write_nowhere_outside_the_user_folder(editor, tmp_path, outside, origin, command):
-    for target in (outside / "out.txt", tmp_path / "user-config" / ".." / "home" / "dotdot.txt"):
+def test_untrusted_lines_write_nowhere_outside_the_sandbox(editor, tmp_path, outside, origin, command):
+    for target in (outside / "out.txt", tmp_path / "user-config" / ".." / "home" / "dotdot.txt",
+                   files.config_dir() / "config.cfg"):
         assert not run_as(editor, origin, command.format(shlex.quote(str(target))), tmp_path)
         assert not target.exists()
-    assert any("may write only inside the user folder" in e for e in errors(editor))
+    refusal = "it is the user's own" if command.startswith("writeconfig") else "may write only inside the sandbox"
+    assert any(refusal in e for e in errors(editor)), errors(editor)
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
-def test_a_symbolic_link_in_the_user_folder_leads_nowhere_else(editor, tmp_path, outside, origin):
-    user = files.config_dir()
-    user.mkdir(parents=True, exist_ok=True)
-    (user / "link").symlink_to(outside)
+def test_a_symbolic_link_in_the_sandbox_leads_nowhere_else(editor, tmp_path, outside, origin):
+    sandbox = files.sandbox_dir()
+    sandbox.mkdir(parents=True, exist_ok=True)
+    (sandbox / "link").symlink_to(outside)
     assert not run_as(editor, origin, "condump link/x.txt", tmp_path)
     assert not (outside / "x.txt").exists()
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
-@pytest.mark.parametrize("command", WRITERS[:3])
-def test_untrusted_relative_names_land_in_the_user_folder(editor, tmp_path, origin, command):
-    name = {"save": "v.r3"}.get(command.split()[0], "f.txt")
+@pytest.mark.parametrize("command", [w for w in WRITERS if not w.startswith(("writeconfig", "record"))])
+def test_untrusted_relative_names_land_in_the_sandbox(editor, tmp_path, origin, command):
+    name = {"save": "v.r3", "scene.save": "s.json"}.get(command.split()[0], "f.txt")
     assert run_as(editor, origin, command.format(name), tmp_path), errors(editor)
-    assert (files.config_dir() / name).is_file()
-    assert not (tmp_path / name).exists()  # not the working folder
+    assert (files.sandbox_dir() / name).is_file()
+    assert not (tmp_path / name).exists() and not (files.config_dir() / name).exists()  # nor the user folder
+
+
+def test_a_sandbox_that_is_a_planted_link_is_refused(editor, tmp_path, outside):
+    files.config_dir().mkdir(parents=True, exist_ok=True)
+    files.sandbox_dir().symlink_to(outside)
+    assert not run_as(editor, "lua", "condump f.txt", tmp_path)
+    assert not (outside / "f.txt").exists() and any("not a folder Shadelab made" in e for e in errors(editor))
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
@@ -150,8 +159,8 @@ def test_a_lua_alias_with_a_newline_never_reaches_the_config(editor):
 def test_what_writeconfig_writes_reads_back_the_same(editor):
     assert editor.execute("""alias q "echo 'a b' ; echo \\"//x\\"" ; bind k "echo it's" ; seta r_s 'x y'""")
     assert editor.execute("writeconfig")
-    fresh = Editor(configs=False)
-    assert fresh.execute(f"exec {files.user_config()}")
+    fresh = Editor()  # the start runs the user's config.cfg, as the user's own
+    assert not [line.text for line in fresh.console.log if line.level == "error"]
     assert fresh.console.registry.aliases["q"] == editor.console.registry.aliases["q"]
     assert fresh.binds.table == editor.binds.table
     assert fresh.console.registry.cvars["r_s"].value == "x y"

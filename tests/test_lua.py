@@ -13,7 +13,7 @@ from lupa import LuaRuntime
 from app.console.console import Console
 from app.console.lua import LINE_LIMIT, OUTPUT_LIMIT, LuaScripting
 from app.console.lua_patterns import PATTERNS
-from app.console.registry import CommandError, Cvar
+from app.console.registry import SCRIPTS, CommandError, Cvar
 
 ROOT = Path(__file__).parent.parent
 
@@ -21,13 +21,14 @@ ROOT = Path(__file__).parent.parent
 def make_console() -> Console:
     c = Console()
     c.calls = []  # every handler appends (name, args) here
-    c.registry.command("snow.add", "x:float y:float [radius:float]")(lambda *a: c.calls.append(("snow.add", a)))
-    c.registry.command("say", "words...")(lambda words: c.calls.append(("say", words)))
+    c.registry.command("snow.add", "x:float y:float [radius:float]", allow=SCRIPTS)(
+        lambda *a: c.calls.append(("snow.add", a)))
+    c.registry.command("say", "words...", allow=SCRIPTS)(lambda words: c.calls.append(("say", words)))
 
     def fail():
         raise CommandError("the model says no")
 
-    c.registry.command("fail")(fail)
+    c.registry.command("fail", allow=SCRIPTS)(fail)
     c.registry.add_cvar(Cvar("cl_steps", int, 64, min=1, max=4096))
     c.registry.add_cvar(Cvar("r_name", str, "x"))
     c.registry.add_cvar(Cvar("r_on", bool, False))
@@ -285,7 +286,7 @@ def test_commands_an_alias_runs_count_against_the_budget(console):
 
 def test_a_slow_command_stops_the_script_right_after_it(console):
     """The clock is read after each console call, not only every thousand instructions."""
-    console.registry.command("slow")(lambda: time.sleep(0.3))
+    console.registry.command("slow", allow=SCRIPTS)(lambda: time.sleep(0.3))
     lua = LuaScripting(console, time_limit=0.2)
     assert not lua.run_string("cmd.slow()\ncmd.say('after')", "slow.lua")
     assert errors(console) == ["lua: slow.lua:1: time limit exceeded (0.2 s)"]
@@ -509,7 +510,8 @@ def test_globals_do_not_leak_between_runs(lua):
 
 def test_a_script_cannot_run_a_script(console, lua):
     results = []  # what the inner run returned
-    console.registry.command("script", "source")(lambda source: results.append(lua.run_string(source, "inner.lua")))
+    console.registry.command("script", "source", allow=SCRIPTS)(
+        lambda source: results.append(lua.run_string(source, "inner.lua")))
     assert lua.run_string("cmd.script('print(1)')", "outer.lua")  # the command itself succeeds...
     assert results == [False]  # ...but the inner run was refused: it would reset the outer budget
     assert errors(console) == ["lua: inner.lua: cannot run a script from inside a script"]

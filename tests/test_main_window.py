@@ -38,12 +38,12 @@ def test_renders_on_demand_only(window, qtbot):
 
 
 def test_a_bound_key_runs_untrusted(window, qtbot, tmp_path):
-    """Binds come from configs others may have written: a key's command writes only in the user folder."""
+    """Binds come from configs others may have written: a key's command writes only in the sandbox."""
     target = tmp_path / "leak.txt"
     assert window.run(f"bind k 'condump {target}'")  # typed: the user may bind what they like...
     qtbot.keyClick(window.viewport, Qt.Key.Key_K)
     assert not target.exists()  # ...but the key runs it as a bind
-    assert "a key binding may write only inside the user folder" in window.editor.console.log[-1].text
+    assert "a key binding may write only inside the sandbox" in window.editor.console.log[-1].text
     assert window.run(f"condump {target}") and target.exists()  # typed, it may
 
 

@@ -41,14 +41,14 @@ def test_scene_save_into_a_missing_folder_is_refused_in_every_workspace(editor, 
     assert editor.execute(f"scene.save {shlex.quote(str(target))}") and target.is_file()  # once it exists
 
 
-def test_an_untrusted_write_makes_the_user_folder_but_no_folder_inside_it(editor, tmp_path):
+def test_an_untrusted_write_makes_the_sandbox_but_no_folder_inside_it(editor, tmp_path):
     script = tmp_path / "s.cfg"
     script.write_text("condump sub/log.txt\n")
     assert not editor.execute(f"exec {script}")
-    assert "there is no folder" in errors(editor) and not files.config_dir().exists()
+    assert "there is no folder" in errors(editor) and not (files.sandbox_dir() / "sub").exists()
     script.write_text("condump log.txt\n")
     assert editor.execute(f"exec {script}")
-    assert (files.config_dir() / "log.txt").is_file()
+    assert (files.sandbox_dir() / "log.txt").is_file()
 
 
 def test_render_out_into_a_missing_folder_is_refused_before_any_work(tmp_path, capsys):

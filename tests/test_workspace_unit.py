@@ -8,6 +8,7 @@ import pytest
 from PySide6.QtWidgets import QLabel
 
 from app import cli
+from app.console.registry import SCRIPTS
 from app.bench import WORKSPACE_TECHNIQUE
 from app.commands.workspaces import COMMANDS, WorkspaceCommands
 from app.console.demo import VirtualClock
@@ -45,7 +46,7 @@ def register(console, state: DummyState, checks) -> None:
     """commands: its own `sample`, a word the volume workspace has too."""
     reg = console.registry.scoped(state.name)
 
-    @reg.command("sample", "count:int", "Set the dummy's counter")
+    @reg.command("sample", "count:int", "Set the dummy's counter", allow=SCRIPTS)
     def sample(count: int) -> None:
         state.history.checkpoint("Set Count")
         state.count = count

@@ -8,7 +8,7 @@ import shlex
 from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
-from app.console.registry import CommandError, Cvar
+from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import number
 from app.io import clouds_scene
 from app.io.clouds_scene import MAX_SEED, CloudScene, CloudSceneError
@@ -95,20 +95,21 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
             raise CommandError(str(exc)) from None
 
     @reg.command("clouds.set", "name value:float", "Set a cloud parameter (clouds.list names them)",
-                 completer=lambda prefix: [p.name for p in PARAMS if p.name.startswith(prefix)])
+                 completer=lambda prefix: [p.name for p in PARAMS if p.name.startswith(prefix)], allow=SCRIPTS)
     def clouds_set(name: str, value: float) -> None:
         params = checked_params(name, value)
         if params != state.params:
             history.checkpoint(f"Set {name.replace('_', ' ')}", ("clouds.set", name))  # a slider's drag: one step
             state.params = params
 
-    @reg.command("clouds.list", "", "List the cloud parameters with their values and ranges", recorded=False)
+    @reg.command("clouds.list", "", "List the cloud parameters with their values and ranges", recorded=False,
+                 allow=SCRIPTS)
     def clouds_list() -> None:
         for p in PARAMS:
             choices = "|".join(map(str, p.choices)) if p.choices else f"{p.lo:g}..{p.hi:g}"
             console.print(f"{p.name:<20} {number(getattr(state.params, p.name)):<8} {choices:<12} {p.text}")
 
-    @reg.command("clouds.reset", "", "Set every cloud parameter back to its default")
+    @reg.command("clouds.reset", "", "Set every cloud parameter back to its default", allow=SCRIPTS)
     def clouds_reset() -> None:
         if state.params != CloudParams():
             history.checkpoint("Reset Clouds")
@@ -124,7 +125,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         return metres
 
     @reg.command("camera.alt", "metres:float", f"Put the camera at this altitude (1..{MAX_ALTITUDE:g} m; the "
-                 "layer lies between 1500 and 5500)")
+                 "layer lies between 1500 and 5500)", allow=SCRIPTS)
     def camera_alt(metres: float) -> None:
         state.set_camera(altitude=altitude(metres))
 
@@ -133,7 +134,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         return _direction("the view's yaw and pitch", yaw, pitch)
 
     @reg.command("camera.look", "yaw:float pitch:float", "Look towards yaw (degrees, 0 along +z) and pitch "
-                 "(-90 down .. 90 up)")
+                 "(-90 down .. 90 up)", allow=SCRIPTS)
     def camera_look(yaw: float, pitch: float) -> None:
         yaw, pitch = look(yaw, pitch)
         state.set_camera(yaw=yaw, pitch=pitch)
@@ -142,7 +143,8 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     def sun(azimuth: float, elevation: float) -> tuple[float, float]:
         return _direction("the sun's azimuth and elevation", azimuth, elevation)
 
-    @reg.command("sun.dir", "azimuth:float elevation:float", "Put the sun at this azimuth and elevation (degrees)")
+    @reg.command("sun.dir", "azimuth:float elevation:float", "Put the sun at this azimuth and elevation (degrees)",
+                 allow=SCRIPTS)
     def sun_dir(azimuth: float, elevation: float) -> None:
         azimuth, elevation = sun(azimuth, elevation)
         if (azimuth, elevation) != (state.view.sun_azimuth, state.view.sun_elevation):
@@ -157,7 +159,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         return hour
 
     @reg.command("sun.time", "hour:float", "Put the sun where it stands at this hour (0..24: rises at 6 in "
-                 "the east, sets at 18 in the west)")
+                 "the east, sets at 18 in the west)", allow=SCRIPTS)
     def sun_time(hour: float) -> None:
         sun_dir(*sun_at_hour(hour_of(hour)))
 
@@ -170,7 +172,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         return seed
 
     @reg.command("weather.new", "[seed:int]", "Make a new weather map (the next seed if none is given) and "
-                 "blend to it over weather_blend seconds")
+                 "blend to it over weather_blend seconds", allow=SCRIPTS)
     def weather_new(seed: int | None = None) -> None:
         if seed_of(seed) is None:
             source = state.weather_source.split()
@@ -180,7 +182,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         console.print(f"weather {seed}, blending in over {number(state.params.weather_blend)} s")
 
     @reg.command("weather.load", "path", "Blend to a weather map from a PNG (R coverage, G type, B rain)",
-                 completer=lambda prefix: files.complete(prefix, (".png",)))
+                 completer=lambda prefix: files.complete(prefix, (".png",)), allow=SCRIPTS)
     def weather_load(path: str) -> None:
         try:
             weather = load_weather(files.readable(console, path))
@@ -190,7 +192,8 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         state.new_weather(resample(weather, WEATHER_SIZE), f"load {shlex.quote(path)}")
         console.print(f"weather from {path}, blending in over {number(state.params.weather_blend)} s")
 
-    @reg.command("weather.blend", "[seconds:float]", "Show or set how long a new weather takes to blend in")
+    @reg.command("weather.blend", "[seconds:float]", "Show or set how long a new weather takes to blend in",
+                 allow=SCRIPTS)
     def weather_blend(seconds: float | None = None) -> None:
         if seconds is None:
             console.print(f"weather.blend is {number(state.params.weather_blend)} s")
@@ -204,7 +207,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
             raise CommandError(f"the clock must not be negative, got {seconds:g}")
 
     @reg.command("clouds.time", "[seconds:float] [wind:float]", "Show or set the clock (the weather blend runs "
-                 "on it) and the wind's time (default: the clock times time_scale)")
+                 "on it) and the wind's time (default: the clock times time_scale)", allow=SCRIPTS)
     def clouds_time(seconds: float | None = None, wind: float | None = None) -> None:
         times(seconds, wind)
         if seconds is None:

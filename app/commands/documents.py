@@ -25,6 +25,7 @@ from app.resources import shipped
 class Document:
     path: str | None = None  # None: untitled
     saved: str | None = None  # the document digest when last saved or loaded; None: never (a recovered scene)
+    by_script: bool = False  # a script, demo, config, bind or alias named the file: the user's Save never writes it
 
 
 class Documents:
@@ -53,9 +54,13 @@ class Documents:
 
     def save_path(self, state: Workspace) -> str | None:
         """Where a plain Save writes: the scene's file, unless it is untitled or one of the shipped resources
-        (a sample opened and edited is saved as a new file, never over the sample)."""
+        (a sample opened and edited is saved as a new file, never over the sample), or a script named it (then
+        Save asks where, as Save As does: state a script set is never used with the user's trust unasked)."""
         path = self.path(state)
-        return None if path is None or shipped(path) else path
+        return None if path is None or shipped(path) or self.named_by_script(state) else path
+
+    def named_by_script(self, state: Workspace) -> bool:
+        return self._documents[state.name].by_script
 
     def modified(self, state: Workspace) -> bool:
         return state.files is not None and self._documents[state.name].saved != self.digest(state)
@@ -63,7 +68,8 @@ class Documents:
     def named(self, state: Workspace, path: str | None, recovered: bool = False) -> None:
         """The scene is now the file `path` (None: untitled), as saved, unless it was `recovered` from an autosave."""
         path = None if path is None else os.path.abspath(path)
-        self._documents[state.name] = Document(path, None if recovered else self.digest(state))
+        self._documents[state.name] = Document(path, None if recovered else self.digest(state),
+                                               by_script=path is not None and not self.console.trusted)
         self.changes += 1
         for listener in self.path_listeners if path is not None else ():
             listener(path)

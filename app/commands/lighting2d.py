@@ -12,7 +12,7 @@ import numpy as np
 from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
-from app.console.registry import CommandError, Cvar
+from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import count, number
 from app.io import scene2d as scene_file
 from app.io.json_file import storable
@@ -118,7 +118,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     # ---- scene -------------------------------------------------------------------------------------
 
-    @reg.command("lighting.clear", "", "Empty the 2D scene (ambient, view and images stay)")
+    @reg.command("lighting.clear", "", "Empty the 2D scene (ambient, view and images stay)", allow=SCRIPTS)
     def clear() -> None:
         edit("Clear Scene")
         scene().lights.clear()
@@ -133,7 +133,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         return path
 
     @reg.command("lighting.sample", "name", "Load a sample 2D scene: " + ", ".join(sample_names()),
-                 completer=lambda p: [n for n in sample_names() if n.startswith(p)])
+                 completer=lambda p: [n for n in sample_names() if n.startswith(p)], allow=SCRIPTS)
     def sample(name: str) -> None:
         load(sample_path(name))
 
@@ -163,7 +163,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def ambient_value(r: float, g: float, b: float) -> tuple[float, float, float]:
         return make(Scene2D, ambient=(r, g, b)).ambient
 
-    @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)")
+    @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)", allow=SCRIPTS)
     def ambient(*rgb: float) -> None:
         value = ambient_value(*rgb)
         edit("Set Ambient")
@@ -179,14 +179,16 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     checks.add("lighting.background")(check_image)
     checks.add("lighting.normalmap")(lambda name: name == "none" or check_image(name))
 
-    @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path")
+    @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path",
+                 allow=SCRIPTS)
     def background(name: str) -> None:
         check_image(name)
         edit("Set Background")
         scene().background = name
         scene().touch()
 
-    @reg.command("lighting.normalmap", "image", "Normals for lights with a height: builtin:NAME, a PNG path, or none")
+    @reg.command("lighting.normalmap", "image", "Normals for lights with a height: builtin:NAME, a PNG path, or none",
+                 allow=SCRIPTS)
     def normalmap(name: str) -> None:
         if name != "none":
             check_image(name)
@@ -202,7 +204,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         return cx, cy, height
 
     @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def view(*values: float) -> None:
         cam = state.camera
         cam.cx, cam.cy, cam.height = view_values(*values)
@@ -220,7 +222,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         return make(Light, kind=kind, position=(x, y), texture=texture, **extra)
 
     @reg.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
-                 completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)])
+                 completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)], allow=SCRIPTS)
     def light_add(*args) -> None:
         light = new_light(*args)
         index = append(scene().lights, light, scene_file.MAX_LIGHTS, "Add Light")
@@ -242,7 +244,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     @reg.command("light.set", "index:int property values...", "Set a light's property (light.list shows them)",
                  completer=lambda p: [k for k in sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS
-                                                         | {"ignored_hulls"}) if k.startswith(p)])
+                                                         | {"ignored_hulls"}) if k.startswith(p)], allow=SCRIPTS)
     def light_set(index: int, key: str, values: list[str]) -> None:
         light, changed = light_change(index, key, values)
         if changed == light:
@@ -254,18 +256,18 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     checks.add("light.move", "lighting2d")(lambda index, x, y: light_change(index, "position", [repr(x), repr(y)]))
 
     @reg.command("light.move", "index:int x:float y:float", "Move a light's centre (a drag is one undo step)",
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def light_move(index: int, x: float, y: float) -> None:
         light_set(index, "position", [repr(x), repr(y)])
 
-    @reg.command("light.remove", "index:int", "Remove a light")
+    @reg.command("light.remove", "index:int", "Remove a light", allow=SCRIPTS)
     def light_remove(index: int) -> None:
         light_at(index)
         edit("Remove Light")
         del scene().lights[index]
         scene().touch()
 
-    @reg.command("light.list", "", "List the lights and their properties", recorded=False)
+    @reg.command("light.list", "", "List the lights and their properties", recorded=False, allow=SCRIPTS)
     def light_list() -> None:
         for i, light in enumerate(scene().lights):
             props = ", ".join(f"{f.name} {fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
@@ -300,7 +302,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         console.print(f"hull {index}: {count(len(hull.points), 'point')}")
         report(index)
 
-    @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)")
+    @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)",
+                 allow=SCRIPTS)
     def hull_add(values: list[float]) -> None:
         add_hull(new_hull(values))
 
@@ -312,7 +315,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         return hull
 
     @reg.command("hull.draw", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units) "
-                 "whose origin and position are its centroid, where its handles sit (the draw tool's hulls)")
+                 "whose origin and position are its centroid, where its handles sit (the draw tool's hulls)",
+                 allow=SCRIPTS)
     def hull_draw(values: list[float]) -> None:
         add_hull(drawn_hull(values))
 
@@ -340,7 +344,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     @reg.command("hull.set", "index:int property values...",
                  "Set a hull's position, origin, rotation, scale or enabled",
-                 completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)])
+                 completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)], allow=SCRIPTS)
     def hull_set(index: int, key: str, values: list[str]) -> None:
         hull, value = hull_value(index, key, values)
         if getattr(hull, key) == value:
@@ -355,7 +359,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     checks.add("hull.move", "lighting2d")(lambda index, x, y: hull_value(index, "position", [repr(x), repr(y)]))
 
     @reg.command("hull.move", "index:int x:float y:float", "Move a hull's position (a drag is one undo step)",
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def hull_move(index: int, x: float, y: float) -> None:
         hull_set(index, "position", [repr(x), repr(y)])
 
@@ -374,7 +378,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def replaced_points(index: int, values: list[float]) -> np.ndarray:
         return valid_points(index, coords(values))
 
-    @reg.command("hull.points", "index:int coords:float...", "Replace a hull's local points")
+    @reg.command("hull.points", "index:int coords:float...", "Replace a hull's local points", allow=SCRIPTS)
     def hull_points(index: int, values: list[float]) -> None:
         set_points(index, replaced_points(index, values), "Set Hull Points")
 
@@ -391,7 +395,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
         return valid_points(index, points)
 
     @reg.command("hull.vertex", "index:int vertex:int x:float y:float", "Move one vertex (local coordinates)",
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def hull_vertex(index: int, vertex: int, x: float, y: float) -> None:
         set_points(index, moved_vertex(index, vertex, x, y), "Move Vertex", ("hull.vertex", index, vertex))
 
@@ -402,7 +406,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
             raise CommandError(f"hull {index}: insert position must be 0..{len(points)}, got {vertex}")
         return valid_points(index, np.insert(points, vertex, (x, y), axis=0))
 
-    @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)")
+    @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)",
+                 allow=SCRIPTS)
     def hull_insert(*args) -> None:
         set_points(args[0], inserted_vertex(*args), "Insert Vertex")
 
@@ -410,11 +415,11 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
     def deleted_vertex(index: int, vertex: int) -> np.ndarray:
         return valid_points(index, np.delete(vertex_at(index, vertex), vertex, axis=0))
 
-    @reg.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull")
+    @reg.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull", allow=SCRIPTS)
     def hull_delete(index: int, vertex: int) -> None:
         set_points(index, deleted_vertex(index, vertex), "Delete Vertex")
 
-    @reg.command("hull.remove", "index:int", "Remove a hull")
+    @reg.command("hull.remove", "index:int", "Remove a hull", allow=SCRIPTS)
     def hull_remove(index: int) -> None:
         hull_at(index)
         edit("Remove Hull")
@@ -423,7 +428,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
             light.ignored_hulls = tuple(i - (i > index) for i in light.ignored_hulls if i != index)
         scene().touch()
 
-    @reg.command("hull.list", "", "List the hulls", recorded=False)
+    @reg.command("hull.list", "", "List the hulls", recorded=False, allow=SCRIPTS)
     def hull_list() -> None:
         for i, hull in enumerate(scene().hulls):
             state = "valid" if hull.valid else f"INVALID ({hull.invalid_reason})"

@@ -9,7 +9,7 @@ from dataclasses import replace
 
 from app.console.console import Console
 from app.console.demo import ArgChecks
-from app.console.registry import CommandError, Cvar
+from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import count, number
 from app.io import lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
@@ -114,7 +114,8 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     state.files = SceneFiles(load, lambda path: lights3d_scene.save(path, state.scene), (".json",),
                              lights3d_scene.FORMAT, new=lambda: reset())
 
-    @reg.command("lights3d.reset", "", "Put the default scene back (seed 004's two lights over five objects)")
+    @reg.command("lights3d.reset", "", "Put the default scene back (seed 004's two lights over five objects)",
+                 allow=SCRIPTS)
     def reset() -> None:
         scene = default_scene()
         if (state.scene, state.selection) != (scene, None):
@@ -127,7 +128,8 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         return state.scene.with_settings(**{field: value})
 
     @reg.command("lights3d.set", "field values...", "Set the scene's ambient r g b (0..1), shininess S (the "
-                 "specular exponent) or specular K (its strength)", completer=lambda p: _starting(SETTINGS, p))
+                 "specular exponent) or specular K (its strength)", completer=lambda p: _starting(SETTINGS, p),
+                 allow=SCRIPTS)
     def lights3d_set(field: str, words: list[str]) -> None:
         apply(set_scene(field, words), f"Set {field}", ("lights3d.set", field))
 
@@ -136,7 +138,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         return state.checked_selection(kind, index)
 
     @reg.command("lights3d.select", "what [index:int]", "Select object I or light I (the gizmo moves it), or none",
-                 completer=lambda p: _starting((*ITEM_KINDS, "none"), p))
+                 completer=lambda p: _starting((*ITEM_KINDS, "none"), p), allow=SCRIPTS)
     def select(kind: str, index: int | None = None) -> None:
         state.selection = selection(kind, index)
 
@@ -149,7 +151,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
 
     @reg.command("view.orbit", "yaw:float pitch:float [distance:float]",
                  f"Place the camera around its target: yaw and pitch in degrees (pitch within -89..89), distance "
-                 f"{Lights3DCamera.MIN_DISTANCE:g}..{Lights3DCamera.MAX_DISTANCE:g}", quiet=True)
+                 f"{Lights3DCamera.MIN_DISTANCE:g}..{Lights3DCamera.MAX_DISTANCE:g}", quiet=True, allow=SCRIPTS)
     def view_orbit(*args: float) -> None:
         state.camera = orbit_camera(*args)
 
@@ -158,7 +160,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         return replace(state.camera, target=(x, y, z))  # the camera checks the point (finite, within reach)
 
     @reg.command("view.target", "x:float y:float z:float", "Orbit the camera around this point (View > Frame All "
-                 "puts it at the scene's middle)", quiet=True)
+                 "puts it at the scene's middle)", quiet=True, allow=SCRIPTS)
     def view_target(x: float, y: float, z: float) -> None:
         state.camera = targeted_camera(x, y, z)
 
@@ -176,7 +178,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
     @reg.command("object.add", "kind [x:float] [y:float] [z:float] [size:float...]",
                  "Add a box, sphere, torus, lprism or plane at its centre x y z (default: standing on the ground in "
                  "front of the camera, clear of the other objects) with its size (object.set has the numbers by "
-                 "kind)", completer=lambda p: _starting(OBJECT_KINDS, p))
+                 "kind)", completer=lambda p: _starting(OBJECT_KINDS, p), allow=SCRIPTS)
     def object_add(kind: str, *args) -> None:
         apply(added_object(kind, *args), "Add Object")
         obj = state.scene.objects[-1]
@@ -189,7 +191,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         return state.scene.with_object(index, position=(x, y, z))
 
     @reg.command("object.move", "index:int x:float y:float z:float", "Move an object's centre (a drag is one "
-                 "undo step)", quiet=True)
+                 "undo step)", quiet=True, allow=SCRIPTS)
     def object_move(index: int, x: float, y: float, z: float) -> None:
         apply(moved_object(index, x, y, z), "Move Object", ("object.move", index))
 
@@ -202,17 +204,18 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
 
     @reg.command("object.set", "index:int field values...", "Set an object's size (box sx sy sz; sphere radius "
                  "segments; torus major minor segments sides; lprism sx sy sz thickness; plane size) or colour "
-                 "r g b (0..1)")
+                 "r g b (0..1)", allow=SCRIPTS)
     def object_set(index: int, field: str, words: list[str]) -> None:
         apply(set_object(index, field, words), setting_name("Object", field), ("object.set", index, field))
 
     checks.add("object.remove", "lights3d")(lambda index: state.item("object", index))
 
-    @reg.command("object.remove", "index:int", "Remove an object (the selection follows the objects that stay)")
+    @reg.command("object.remove", "index:int", "Remove an object (the selection follows the objects that stay)",
+                 allow=SCRIPTS)
     def object_remove(index: int) -> None:
         remove("object", index)
 
-    @reg.command("object.list", "", "List the objects", recorded=False)
+    @reg.command("object.list", "", "List the objects", recorded=False, allow=SCRIPTS)
     def object_list() -> None:
         for i, o in enumerate(state.scene.objects):
             console.print(f"object {i}: {o.kind} size {_words(o.size)} at {_words(o.position)} "
@@ -228,7 +231,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
 
     @reg.command("light3d.add", "kind [x:float] [y:float] [z:float]", "Add a point, spot or directional light at "
                  "x y z (default: the model's, 100 above the origin, shining down)",
-                 completer=lambda p: _starting(LIGHT_KINDS, p))
+                 completer=lambda p: _starting(LIGHT_KINDS, p), allow=SCRIPTS)
     def light_add(*args) -> None:
         apply(added_light(*args), "Add Light")
         light = state.scene.lights[-1]
@@ -242,7 +245,7 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
 
     @reg.command("light3d.set", "index:int field values...", "Set a light's position x y z, direction x y z, "
                  "colour r g b (0..16), range, falloff, angle (a spot's half-angle, degrees), shadow (" +
-                 "|".join(SHADOW_METHODS) + ") or kind (" + "|".join(LIGHT_KINDS) + ")")
+                 "|".join(SHADOW_METHODS) + ") or kind (" + "|".join(LIGHT_KINDS) + ")", allow=SCRIPTS)
     def light_set(index: int, field: str, words: list[str]) -> None:
         apply(set_light(index, field, words), setting_name("Light", field), ("light3d.set", index, field))
 
@@ -251,18 +254,19 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
         return state.scene.with_light(index, position=(x, y, z))
 
     @reg.command("light3d.move", "index:int x:float y:float z:float", "Move a light (a drag is one undo step; "
-                 "as light3d.set I position)", quiet=True)
+                 "as light3d.set I position)", quiet=True, allow=SCRIPTS)
     def light_move(index: int, x: float, y: float, z: float) -> None:
         # the undo step of light3d.set I position: a drag's moves and sets of one light's position are one
         apply(moved_light(index, x, y, z), setting_name("Light", "position"), ("light3d.set", index, "position"))
 
     checks.add("light3d.remove", "lights3d")(lambda index: state.item("light", index))
 
-    @reg.command("light3d.remove", "index:int", "Remove a light (the selection follows the lights that stay)")
+    @reg.command("light3d.remove", "index:int", "Remove a light (the selection follows the lights that stay)",
+                 allow=SCRIPTS)
     def light_remove(index: int) -> None:
         remove("light", index)
 
-    @reg.command("light3d.list", "", "List the lights", recorded=False)
+    @reg.command("light3d.list", "", "List the lights", recorded=False, allow=SCRIPTS)
     def light_list() -> None:
         for i, li in enumerate(state.scene.lights):
             console.print(f"light {i}: {li.kind} at {_words(li.position)} direction {_words(li.direction)} "

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from app.console.console import Console
 from app.console.demo import ArgChecks
-from app.console.registry import CommandError
+from app.console.registry import SCRIPTS, CommandError
 from app.console.text import count, number
 from app.io import snowflake_scene
 from app.io.json_file import storable
@@ -55,7 +55,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         return Flake(x, y, radius)
 
     @reg.command("snow.level", "[level:float]",
-                 f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)")
+                 f"Show or set the Koch level (0..{MAX_LEVEL:g}, fractional levels blend)", allow=SCRIPTS)
     def level(value: float | None = None) -> None:
         if level_value(value) is None:
             console.print(f"snow.level is {number(scene.level)}")
@@ -63,14 +63,15 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
             history.checkpoint("Set Level")
             scene.level = value
 
-    @reg.command("snow.step", "delta:float", "Change the level by delta, clamped to the valid range (keys w/s)")
+    @reg.command("snow.step", "delta:float", "Change the level by delta, clamped to the valid range (keys w/s)",
+                 allow=SCRIPTS)
     def step(delta: float) -> None:
         target = min(MAX_LEVEL, max(0.0, round(scene.level + delta, 6)))
         if target != scene.level:
             history.checkpoint("Step Level")
             scene.level = target
 
-    @reg.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)")
+    @reg.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)", allow=SCRIPTS)
     def add(x: float, y: float, radius: float = DEFAULT_RADIUS) -> None:
         new_flake(x, y, radius)
         if len(scene.flakes) >= MAX_FLAKES:
@@ -78,24 +79,24 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         history.checkpoint("Add Flake")
         console.print(f"flake {scene.add(x, y, radius)} at ({number(x)}, {number(y)})")
 
-    @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True)
+    @reg.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True, allow=SCRIPTS)
     def move(index: int, x: float, y: float) -> None:
         flake_at(index, x, y)
         history.checkpoint("Move Flake", ("snow.move", index))  # a drag's moves: one step
         scene.move(index, x, y)
 
-    @reg.command("snow.remove", "index:int", "Remove a flake")
+    @reg.command("snow.remove", "index:int", "Remove a flake", allow=SCRIPTS)
     def remove(index: int) -> None:
         flake_at(index)
         history.checkpoint("Remove Flake")
         scene.remove(index)
 
-    @reg.command("snow.clear", "", "Remove every flake")
+    @reg.command("snow.clear", "", "Remove every flake", allow=SCRIPTS)
     def clear() -> None:
         history.checkpoint("Clear Flakes")
         scene.clear()
 
-    @reg.command("snow.list", "", "List the flakes")
+    @reg.command("snow.list", "", "List the flakes", allow=SCRIPTS)
     def list_() -> None:
         for i, f in enumerate(scene.flakes):
             console.print(f"{i}: ({number(f.x)}, {number(f.y)}) radius {number(f.radius)}")
@@ -108,6 +109,6 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         return cx, cy, height
 
     @reg.command("snow.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height it shows",
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def view(*values: float) -> None:
         camera.cx, camera.cy, camera.height = view_values(*values)

@@ -9,7 +9,7 @@ from pathlib import Path
 from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
-from app.console.registry import CommandError, Cvar
+from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
                                    write_volume)
 from app.model import volume as volume_model
@@ -114,13 +114,13 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             console.print(f"the edit baked the window into the colours, and the scalars ({scalars.nbytes >> 20} MiB) "
                           "do not fit the undo history: load the file again to window it")
 
-    @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image")
+    @reg.command("new", "w:int h:int d:int", "Make an empty (transparent) 3D raster image", allow=SCRIPTS)
     def new(w: int, h: int, d: int) -> None:
         replace(Volume.new(w, h, d).data, "new volume", "New Volume", loaded=False)
 
     @reg.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
                  "float ones through a window)",
-                 completer=volume_files)
+                 completer=volume_files, allow=SCRIPTS)
     def load(path: str) -> str:
         found = files.find(path, console) if "%" not in path else None  # a series names its slices
         source = found or files.readable(console, path)
@@ -147,7 +147,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
 
     @reg.command("save", "path", "Save the 3D raster image (format from the name; atomically); a scalar volume "
                  "saves its scalars to .npy, .nrrd and .tif, its colours to .r3 and image series", recorded=False,
-                 completer=volume_files)
+                 completer=volume_files, allow=SCRIPTS)
     def save(path: str) -> str:
         target = files.writable(console, path)
         try:
@@ -184,7 +184,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         return name, size
 
     @reg.command("sample", "name [size:int]", "Load a sample volume: " + ", ".join(SAMPLES),
-                 completer=lambda p: [s for s in SAMPLES if s.startswith(p)])
+                 completer=lambda p: [s for s in SAMPLES if s.startswith(p)], allow=SCRIPTS)
     def sample(*args) -> None:
         name, size = sample_args(*args)
         replace(make(name, size), f"sample {name}", "Sample")
@@ -194,7 +194,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         volume().pick(x, y, z)  # reading refuses a voxel outside the volume
         return x, y, z, _rgba(r, g, b, a)
 
-    @reg.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel")
+    @reg.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel", allow=SCRIPTS)
     def voxel(*args: int) -> None:
         edit(volume().set_voxel, *voxel_args(*args))
 
@@ -206,17 +206,18 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         return axis, index, size, _rgba(r, g, b, a), _points(coords)
 
     @reg.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
-                 "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)")
+                 "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)",
+                 allow=SCRIPTS)
     def stroke(axis, index, size, r, g, b, a, coords) -> None:
         edit(volume().stroke, *stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
     @reg.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                  "Show a stroke in progress (the painter, while the mouse is down); not recorded", recorded=False,
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def stroke_preview(axis, index, size, r, g, b, a, coords) -> None:
         volume().preview_stroke(*stroke_args(axis, index, size, r, g, b, a, coords), round_brush=brush_round.value)
 
-    @reg.command("stroke.cancel", "", "Drop a stroke in progress", recorded=False)
+    @reg.command("stroke.cancel", "", "Drop a stroke in progress", recorded=False, allow=SCRIPTS)
     def stroke_cancel() -> None:
         volume().clear_preview()
 
@@ -228,32 +229,32 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     @reg.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int [tolerance:int]",
                  "Flood-fill the region around (x, y) within a slice whose every channel is within tolerance "
                  "(0..255, default 0: one exact colour) of the colour at (x, y); on a scalar volume, of the "
-                 "window's colours")
+                 "window's colours", allow=SCRIPTS)
     def fill(*args) -> None:
         edit(volume().fill, *fill_args(*args))
 
     checks.add("rotate")(_axis)
 
     @reg.command("rotate", "axis", "Rotate the volume 90 degrees about x, y or z (keys 5/6/7)",
-                 completer=lambda p: [a for a in AXES if a.startswith(p)])
+                 completer=lambda p: [a for a in AXES if a.startswith(p)], allow=SCRIPTS)
     def rotate(axis: str) -> None:
         volume().rotate(_axis(axis))
         state.clamp_slice()
 
-    @reg.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)")
+    @reg.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)", allow=SCRIPTS)
     def smooth() -> None:
         edit(volume().smooth)
 
     checks.add("pick", "volume")(lambda x, y, z: volume().pick(x, y, z))
 
-    @reg.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour")
+    @reg.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour", allow=SCRIPTS)
     def pick(x: int, y: int, z: int) -> None:
         view.brush = volume().pick(x, y, z)
         console.print(f"brush colour {' '.join(map(str, view.brush))}")
 
     checks.add("brush.color")(_rgba)
 
-    @reg.command("brush.color", "r:int g:int b:int a:int", "Set the brush colour (a = 0 erases)")
+    @reg.command("brush.color", "r:int g:int b:int a:int", "Set the brush colour (a = 0 erases)", allow=SCRIPTS)
     def brush_color(r: int, g: int, b: int, a: int) -> None:
         view.brush = _rgba(r, g, b, a)
 
@@ -264,16 +265,16 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             raise CommandError(f"slice {index} is outside 0..{depth - 1} along {axis}")
         return axis, index
 
-    @reg.command("slice", "axis index:int", "Edit this slice in the painter")
+    @reg.command("slice", "axis index:int", "Edit this slice in the painter", allow=SCRIPTS)
     def slice_(*args) -> None:
         view.axis, view.index = slice_args(*args)
 
-    @reg.command("slice.step", "delta:int", "Move to a neighbouring slice, clamped (keys q/e)")
+    @reg.command("slice.step", "delta:int", "Move to a neighbouring slice, clamped (keys q/e)", allow=SCRIPTS)
     def slice_step(delta: int) -> None:
         view.index = min(max(0, view.index + delta), volume().depth(view.axis) - 1)
 
     @reg.command("slice.highlight", "[axis] [index:int]", "Highlight a slice in the 3D view (the slice picker)",
-                 recorded=False, quiet=True)
+                 recorded=False, quiet=True, allow=SCRIPTS)
     def slice_highlight(axis: str | None = None, index: int | None = None) -> None:
         view.highlight = None if axis is None or index is None else (_axis(axis), index)
 
@@ -283,11 +284,12 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         return OrbitCamera(yaw % 360.0, pitch, cam.distance if distance is None else distance, cam.fov)
 
     @reg.command("orbit", "yaw:float pitch:float [distance:float]", "Place the 3D view's camera (left drag; w/s)",
-                 quiet=True)
+                 quiet=True, allow=SCRIPTS)
     def orbit(*args: float) -> None:
         view.camera = orbit_camera(*args)
 
-    @reg.command("orbit.step", "dyaw:float dpitch:float [ddistance:float]", "Turn the 3D view's camera by steps")
+    @reg.command("orbit.step", "dyaw:float dpitch:float [ddistance:float]", "Turn the 3D view's camera by steps",
+                 allow=SCRIPTS)
     def orbit_step(dyaw: float, dpitch: float, ddistance: float = 0.0) -> None:
         cam = view.camera
         pitch = min(max(cam.pitch + dpitch, -85.0), 85.0)
@@ -301,23 +303,23 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         return number
 
     @reg.command("mode", "[number:int]", "Show or pick the ray tracer's mode (F1-F11): " +
-                 "; ".join(f"{m.number} {m.name}" for m in MODES.values()))
+                 "; ".join(f"{m.number} {m.name}" for m in MODES.values()), allow=SCRIPTS)
     def mode(number: int | None = None) -> None:
         if mode_number(number) is None:
             console.print(f"mode {view.mode}: {MODES[view.mode].name}")
         else:
             view.mode = number
 
-    @reg.command("mode.next", "", "Cycle the ray tracer's modes (key p)")
+    @reg.command("mode.next", "", "Cycle the ray tracer's modes (key p)", allow=SCRIPTS)
     def mode_next() -> None:
         view.mode = view.mode % len(MODES) + 1
 
-    @reg.command("shadows", "[on:int]", "Shadows on or off in the Phong modes (key l toggles)")
+    @reg.command("shadows", "[on:int]", "Shadows on or off in the Phong modes (key l toggles)", allow=SCRIPTS)
     def shadows(on: int | None = None) -> None:
         view.shadows = (not view.shadows) if on is None else bool(on)
 
     def flag(name: str, attribute: str, text: str) -> None:
-        @reg.command(name, "[on:int]", text)
+        @reg.command(name, "[on:int]", text, allow=SCRIPTS)
         def toggle(on: int | None = None) -> None:
             setattr(view, attribute, (not getattr(view, attribute)) if on is None else bool(on))
 
@@ -325,18 +327,19 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     flag("magnify", "magnify", "Twice the magnification (key x toggles)")
     flag("wireframe", "wireframe", "Draw the box's edges (key f toggles)")
 
-    @reg.command("quality.next", "", "Step cl_steps through 32, 64, 128, 256, 512 (key k)")
+    @reg.command("quality.next", "", "Step cl_steps through 32, 64, 128, 256, 512 (key k)", allow=SCRIPTS)
     def quality_next() -> None:
         ladder = (32, 64, 128, 256, 512)
         steps = reg.cvars["cl_steps"]
         steps.set(str(next((s for s in ladder if s > steps.value), ladder[0])))
         console.print(f"cl_steps {steps.value}")
 
-    @reg.command("light", "x:float y:float z:float", "Place the first light (world units; key z moves it)")
+    @reg.command("light", "x:float y:float z:float", "Place the first light (world units; key z moves it)",
+                 allow=SCRIPTS)
     def light(x: float, y: float, z: float) -> None:
         view.light = (x, y, z)
 
-    @reg.command("light.orbit", "degrees:float", "Turn the first light about the vertical axis (key z)")
+    @reg.command("light.orbit", "degrees:float", "Turn the first light about the vertical axis (key z)", allow=SCRIPTS)
     def light_orbit(degrees: float) -> None:
         x, y, z = view.light
         a = math.radians(degrees)
@@ -353,7 +356,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
         return check_window(low, high)
 
     @reg.command("vol.window", "[low:float] [high:float]", "Show or set a scalar volume's window: values at low and "
-                 "below are transparent, at high and above opaque, the colour map in between")
+                 "below are transparent, at high and above opaque, the colour map in between", allow=SCRIPTS)
     def window(*args: float) -> None:
         bounds = window_args(*args)
         scalars = volume().require_scalars()
@@ -365,7 +368,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
             volume().set_transfer(replaced(scalars.transfer, low=low, high=high))
 
     @reg.command("vol.window.auto", "", "Set a scalar volume's window to percentiles {:g}..{:g} of its values above "
-                 "the minimum (what loading it chose)".format(*PERCENTILES))
+                 "the minimum (what loading it chose)".format(*PERCENTILES), allow=SCRIPTS)
     def window_auto() -> None:
         scalars = volume().require_scalars()
         low, high = default_window(scalars.values)
@@ -374,14 +377,14 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     checks.add("vol.colormap")(check_colormap)
 
     @reg.command("vol.colormap", "name", "Colour a scalar volume's window with " + ", ".join(COLORMAPS),
-                 completer=lambda p: [c for c in COLORMAPS if c.startswith(p)])
+                 completer=lambda p: [c for c in COLORMAPS if c.startswith(p)], allow=SCRIPTS)
     def colormap(name: str) -> None:
         scalars = volume().require_scalars()
         volume().set_transfer(replaced(scalars.transfer, colormap=name))  # the model checks the name
 
     checks.add("vol.background")(lambda r, g, b: _rgba(r, g, b, 255))
 
-    @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)")
+    @reg.command("vol.background", "r:int g:int b:int", "Background colour of the 3D view (key c)", allow=SCRIPTS)
     def background(r: int, g: int, b: int) -> None:
         view.background = _rgba(r, g, b, 255)[:3]
 

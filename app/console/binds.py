@@ -5,10 +5,9 @@ wins over the global one. Key names are the Quake console's, so configs read the
 """
 from __future__ import annotations
 
-import shlex
 import string
 
-from app.console.registry import check_text
+from app.console.registry import check_new_name, check_text, quote
 
 NAMED = ("TAB", "ENTER", "ESCAPE", "SPACE", "BACKSPACE", "UPARROW", "DOWNARROW", "LEFTARROW",
          "RIGHTARROW", "INS", "DEL", "PGDN", "PGUP", "HOME", "END", "PAUSE", "SHIFT", "CTRL", "ALT",
@@ -33,18 +32,34 @@ def split(spec: str) -> tuple[str, str]:
     scope, sep, key = spec.rpartition(":")
     if sep and not scope:  # ':' itself is not a key we bind; keep the message clear
         raise ValueError(f"no key called {spec!r}")
+    if scope:
+        check_new_name("a bind's workspace", scope)
     return scope, normalise(key)
 
 
 class Binds:
+    """`table`: the binds in force; `kept`: those the user made, which config.cfg keeps. What scripts, demos and
+    configs bind or unbind changes the first alone: it lasts the session (docs/console.md, taint)."""
+
     def __init__(self) -> None:
         self.table: dict[tuple[str, str], str] = {}
+        self.kept: dict[tuple[str, str], str] = {}
 
-    def bind(self, spec: str, command: str) -> None:
-        self.table[split(spec)] = check_text(f"bind {spec}", command)
+    def bind(self, spec: str, command: str, trusted: bool = True) -> None:
+        key, command = split(spec), check_text(f"bind {spec}", command)
+        for table in (self.table, self.kept) if trusted else (self.table,):
+            table[key] = command
 
-    def unbind(self, spec: str) -> bool:
-        return self.table.pop(split(spec), None) is not None
+    def unbind(self, spec: str, trusted: bool = True) -> bool:
+        key = split(spec)
+        if trusted:
+            self.kept.pop(key, None)
+        return self.table.pop(key, None) is not None
+
+    def clear(self, trusted: bool = True) -> None:
+        self.table.clear()
+        if trusted:
+            self.kept.clear()
 
     def lookup(self, workspace: str, key: str) -> str | None:
         return self.table.get((workspace, key)) or self.table.get(("", key))
@@ -67,6 +82,7 @@ class Binds:
                      if k == key and s != workspace and (s or own)]  # the global one where this workspace's hides it
         return said + (f" (elsewhere: {'; '.join(elsewhere)})" if elsewhere else "")
 
-    def lines(self) -> list[str]:
-        """`bind` commands that recreate the table, sorted (for bindlist and writeconfig)."""
-        return [f"bind {f'{s}:' if s else ''}{k} {shlex.quote(c)}" for (s, k), c in sorted(self.table.items())]
+    def lines(self, kept: bool = False) -> list[str]:
+        """`bind` commands that recreate the table (bindlist), or the user's own binds (`kept`: writeconfig), sorted."""
+        table = self.kept if kept else self.table
+        return [f"bind {quote(f'{s}:{k}' if s else k)} {quote(c)}" for (s, k), c in sorted(table.items())]

@@ -1,13 +1,12 @@
 """The console's own commands: the Quake set (cvars, aliases, binds, configs, log) and Lua."""
 from __future__ import annotations
 
-import shlex
-
 from app.console import files
 from app.console.binds import KEYS, Binds
 from app.console.console import Console, Origin
 from app.console.lua import LuaScripting
-from app.console.registry import CommandError, Cvar, Reported
+from app.console.budget import DEFAULT_SECONDS
+from app.console.registry import SCRIPTS, USER, CommandError, Cvar, Reported, check_new_name, join, quote
 from app.console.text import count
 from app.io.atomic import write_text
 from app.io.regular_file import read_regular_bytes
@@ -27,16 +26,20 @@ def _infer(text: str) -> type:
 
 
 def config_lines(console: Console, binds: Binds) -> list[str]:
-    """What writeconfig saves: archived cvars, binds and aliases, as commands."""
+    """What writeconfig saves: the user's own archived cvars, binds and aliases, as commands, each word quoted by
+    the one function that the console reads back whole (registry.quote). What scripts, demos and configs set
+    lasts the session and is never written here (Cvar.kept, Binds.kept, Registry.kept_aliases)."""
     reg = console.registry
-    lines = [c.assignment() for _name, c in sorted(reg.cvars.items()) if c.archive]
-    lines += ["unbindall", *binds.lines()]  # the saved binds are the whole set: a removed default stays removed
-    lines += [f"alias {name} {shlex.quote(text)}" for name, text in sorted(reg.aliases.items())]
+    lines = [c.assignment(kept=True) for _name, c in sorted(reg.cvars.items()) if c.archive]
+    lines += ["unbindall", *binds.lines(kept=True)]  # the whole set: a removed default stays removed
+    lines += [f"alias {quote(name)} {quote(text)}" for name, text in sorted(reg.kept_aliases.items())]
     return lines
 
 
-def exec_file(console: Console, name: str) -> bool:
-    """Run a .cfg line by line; a failing line is reported with its place and the rest still runs."""
+def exec_file(console: Console, name: str, trusted: bool = False) -> bool:
+    """Run a .cfg line by line; a failing line is reported with its place and the rest still runs. Untrusted (a
+    config someone may have sent) unless `trusted`: the editor's own start configs (the shipped ones, and the
+    user's config.cfg, which only writeconfig writes)."""
     try:
         path = files.find(name, console)
     except CommandError as exc:
@@ -53,13 +56,19 @@ def exec_file(console: Console, name: str) -> bool:
     except UnicodeDecodeError as exc:
         console.error(f"exec: cannot read {path}: not UTF-8 text (byte {exc.start})")
         return False
-    return console.run_lines(text.splitlines(), f"exec {path.name}", Origin("config", path.parent),
+    origin = None if trusted else Origin("config", path.parent)
+    return console.run_lines(text.splitlines(), f"exec {path.name}", origin,
                              lambda number, line: console.error(f"exec: {path.name}:{number}: {line.strip()}"))
 
 
 def register(console: Console, binds: Binds) -> LuaScripting:
     reg = console.registry
     lua = LuaScripting(console)
+    console.file_policy = lambda kind, name: files.resolve(console, kind, name)
+    budget = reg.add_cvar(Cvar("scr_budget", float, DEFAULT_SECONDS, "Seconds one demo, config or script may spend "
+                               "running, with all it runs inside (scripts, aliases, waits); then it stops",
+                               min=0.1, max=3600.0, archive=True, allow=USER))
+    budget.on_change.append(lambda cvar: setattr(console, "budget_seconds", cvar.value))
 
     def run_lua(name: str) -> bool:
         try:
@@ -71,7 +80,12 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             console.error(f"lua: cannot find {name}")
             return False
         with console.batch(), console.untrusted("lua", path.parent):  # a script's edits undo as one
-            return lua.run_file(path)
+            limit = lua.time_limit
+            lua.time_limit = min(limit, console.budget.remaining())  # within what its run has left
+            try:
+                return lua.run_file(path)
+            finally:
+                lua.time_limit = limit
 
     console.file_runners[".lua"] = run_lua
     names = lambda prefix: [n for n in reg.names(":" in prefix) if n.startswith(prefix)]  # noqa: E731
@@ -83,20 +97,27 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             raise Reported()
 
     def set_cvar(name: str, value: str, archive: bool) -> None:
+        """A script's value lasts the session: it never archives a cvar nor changes the value config.cfg keeps."""
         cvar = reg.cvars.get(name)
+        archive = archive and console.trusted
         if cvar is None:
             if name in reg.commands or name in reg.aliases:
                 raise CommandError(f"{name!r} is a command, not a cvar")
+            check_new_name("a cvar", name)
             reg.add_cvar(Cvar(name, _infer(value), value, archive=archive, user_created=True))
             return
-        cvar.set(value)
+        if cvar.allow != SCRIPTS and not console.trusted:
+            raise CommandError(f"{console.origins[-1].who()} may not set {name}: it is the user's own")
+        cvar.set(value, trusted=console.trusted)
         cvar.archive = cvar.archive or archive
 
-    @reg.command("set", "name value", "Set a cvar, creating it (typed by its value) if new", completer=cvar_names)
+    @reg.command("set", "name value", "Set a cvar, creating it (typed by its value) if new", completer=cvar_names,
+                 allow=SCRIPTS)
     def set_(name: str, value: str) -> None:
         set_cvar(name, value, archive=False)
 
-    @reg.command("seta", "name value", "Set a cvar and keep it in the user config (archive)", completer=cvar_names)
+    @reg.command("seta", "name value", "Set a cvar and keep it in the user config (archive)", completer=cvar_names,
+                 allow=SCRIPTS)
     def seta(name: str, value: str) -> None:
         set_cvar(name, value, archive=True)
 
@@ -105,12 +126,12 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             raise CommandError(f"no cvar {name!r}")
         return reg.cvars[name]
 
-    @reg.command("reset", "name", "Set a cvar back to its default", completer=cvar_names)
+    @reg.command("reset", "name", "Set a cvar back to its default", completer=cvar_names, allow=SCRIPTS)
     def reset(name: str) -> None:
         cvar(name).set(str(cvar(name).default))
 
     @reg.command("toggle", "name [values...]", "Flip a bool cvar, or step it through the values given",
-                 completer=cvar_names)
+                 completer=cvar_names, allow=SCRIPTS)
     def toggle(name: str, values: list[str] | None = None) -> None:
         c = cvar(name)
         if not values:
@@ -127,12 +148,13 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             console.print(line)
         console.print(count(len(lines), noun))
 
-    @reg.command("cvarlist", "[prefix]", "List cvars (A = archived to the user config)", recorded=False)
+    @reg.command("cvarlist", "[prefix]", "List cvars (A = archived to the user config)", recorded=False, allow=SCRIPTS)
     def cvarlist(prefix: str = "") -> None:
         listing([f"{'A' if c.archive else ' '} {c.name:<22} {c.text():<12} {c.type.__name__:<5} {c.help}"
                  for name, c in sorted(reg.cvars.items()) if name.startswith(prefix)], "cvar")
 
-    @reg.command("cmdlist", "[prefix]", "List commands ([workspace] marks one workspace's own)", recorded=False)
+    @reg.command("cmdlist", "[prefix]", "List commands ([workspace] marks one workspace's own)", recorded=False,
+                 allow=SCRIPTS)
     def cmdlist(prefix: str = "") -> None:
         # by bare name, so each workspace's command of a name stands beside the others; the prefix matches
         # the bare name or `workspace:name`
@@ -141,41 +163,43 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         listing([f"{c.label():<44} {c.help}" for c in shown], "command")
 
     @reg.command("help", "[name]", "Describe a command, cvar or alias; alone, say how to find them",
-                 completer=names, recorded=False)
+                 completer=names, recorded=False, allow=SCRIPTS)
     def help_(name: str | None = None) -> None:
         if name is None:
             console.print("cmdlist [prefix] lists commands, cvarlist [prefix] cvars; help <name> describes one; "
                           "Tab completes.")
         elif name in reg.commands:
-            console.print(f"{reg.commands[name].label()}: {reg.commands[name].help}")
+            command = reg.commands[name]
+            console.print(f"{command.label()}: {command.help} (who may run it: {command.capability()})")
         elif name in reg.cvars:
             c = reg.cvars[name]
             bounds = f", {c.min:g}..{c.max:g}" if c.min is not None and c.max is not None else ""
             bounds += f", one of {'|'.join(map(str, c.choices))}" if c.choices else ""
             console.print(f"{name} ({c.type.__name__}{bounds}, now {c.text()}, default {c.default}): {c.help}")
         elif name in reg.aliases:
-            console.print(f"alias {name} {shlex.quote(reg.aliases[name])}")
+            console.print(f"alias {name} {quote(reg.aliases[name])}")
         else:
             raise CommandError(f"no command, cvar or alias {name!r}")
 
-    @reg.command("echo", "[words...]", "Print the words", recorded=False)
+    @reg.command("echo", "[words...]", "Print the words", recorded=False, allow=SCRIPTS)
     def echo(words: list[str]) -> None:
         console.print(" ".join(words))
 
-    @reg.command("clear", "", "Clear the console log", recorded=False)
+    @reg.command("clear", "", "Clear the console log", recorded=False, allow=SCRIPTS)
     def clear() -> None:
         console.clear()
 
-    @reg.command("condump", "file", "Write the console log to a file", recorded=False)
+    @reg.command("condump", "file:write", "Write the console log to a file", recorded=False, allow=SCRIPTS)
     def condump(path: str) -> None:
-        target = files.writable(console, path)
+        target = path
         try:
             write_text(target, "".join(f"{line.text}\n" for line in console.log))
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {exc.strerror}") from None
         console.print(f"dumped {count(len(console.log), 'line')} to {target}")
 
-    @reg.command("alias", "[name] [commands...]", "Name a command line; alone, list the aliases", completer=names)
+    @reg.command("alias", "[name] [commands...]", "Name a command line; alone, list the aliases", completer=names,
+                 allow=SCRIPTS)
     def alias(name: str | None = None, words: list[str] | None = None) -> None:
         text = _joined(words or [])
         if name is None:
@@ -186,10 +210,10 @@ def register(console: Console, binds: Binds) -> LuaScripting:
                 raise CommandError(f"no alias {name!r}")
             console.print(f"{name}: {reg.aliases[name]}")
         else:
-            reg.set_alias(name, text)
+            reg.set_alias(name, text, trusted=console.trusted)
 
     @reg.command("exec", "file", "Run a config file (.cfg) line by line", recorded=False,
-                 completer=lambda p: files.complete(p, (".cfg",)))
+                 completer=lambda p: files.complete(p, (".cfg",)), allow=SCRIPTS)
     def exec_(name: str) -> None:
         fail_unless(exec_file(console, name))
 
@@ -205,30 +229,30 @@ def register(console: Console, binds: Binds) -> LuaScripting:
         console.print(f"wrote {target}")
 
     @reg.command("bind", "key [command...]", "Bind a key (scope:key for one workspace) to a command line; "
-                 "alone, show the binding", completer=key_names)
+                 "alone, show the binding", completer=key_names, allow=SCRIPTS)
     def bind(key: str, words: list[str]) -> None:
         command = _joined(words)
         if command is None:
             console.print(binds.describe(reg.scope or "", key))
         else:
-            binds.bind(key, command)
+            binds.bind(key, command, trusted=console.trusted)
 
-    @reg.command("unbindall", "", "Remove every key binding")
+    @reg.command("unbindall", "", "Remove every key binding", allow=SCRIPTS)
     def unbindall() -> None:
-        binds.table.clear()
+        binds.clear(trusted=console.trusted)
 
-    @reg.command("unbind", "key", "Remove a key binding", completer=key_names)
+    @reg.command("unbind", "key", "Remove a key binding", completer=key_names, allow=SCRIPTS)
     def unbind(key: str) -> None:
-        if not binds.unbind(key):
+        if not binds.unbind(key, trusted=console.trusted):
             raise CommandError(f"{key} is not bound")
 
-    @reg.command("bindlist", "", "List the key bindings", recorded=False)
+    @reg.command("bindlist", "", "List the key bindings", recorded=False, allow=SCRIPTS)
     def bindlist() -> None:
         for line in binds.lines():
             console.print(line)
 
     @reg.command("lua", "file", "Run a Lua script (sandboxed); a bare name.lua does the same", recorded=False,
-                 completer=lambda p: files.complete(p, (".lua",)))
+                 completer=lambda p: files.complete(p, (".lua",)), allow=SCRIPTS)
     def lua_(name: str) -> None:
         fail_unless(run_lua(name))
 
@@ -243,4 +267,4 @@ def _joined(words: list[str]) -> str | None:
     """`bind w snow.step 0.25` and `bind w "snow.step 0.25"` mean the same, as in Quake."""
     if not words:
         return None
-    return words[0] if len(words) == 1 else shlex.join(words)
+    return words[0] if len(words) == 1 else join(words)

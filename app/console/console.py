@@ -2,14 +2,14 @@
 from __future__ import annotations
 
 import re
-import shlex
 import traceback
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from app.console.registry import CommandError, Registry, Reported, check_text
+from app.console.budget import DEFAULT_SECONDS, RunBudget
+from app.console.registry import SCRIPTS, CommandError, Registry, Reported, check_text, join
 
 MAX_LOG = 10_000  # lines kept; the oldest go first...
 MAX_LOG_CHARS = 4 * 2**20  # ...and at most this much text
@@ -33,6 +33,10 @@ class Origin:
 
     kind: str  # "lua", "demo", "config", "bind" or "alias"
     home: Path | None = None
+
+    def who(self) -> str:
+        return {"lua": "a Lua script", "demo": "a demo", "config": "a config file", "bind": "a key binding",
+                "alias": "an alias"}[self.kind]
 
 
 @dataclass(frozen=True)
@@ -134,14 +138,20 @@ class Console:
         self.batch_listeners: list[Callable[[bool], None]] = []  # True: a script starts, False: it ended
         self._batch_depth = 0
         # (frames left, commands, how many waits led here) after `wait`
-        self.waiting: list[tuple[int, list[list[str]], int]] = []
+        # (frames left, commands, how many waits led here, who wrote them, their run's budget) after `wait`: a
+        # waited line runs later with the trust and the budget of the run that waited
+        self.waiting: list[tuple[int, list[list[str]], int, tuple[Origin, ...], RunBudget | None]] = []
         self._wait_chain = 0  # the chain length of the waited-for line running now
         self._depth = 0
         self.origins: list[Origin] = []  # innermost last; empty while the user's own lines run
+        self.budget: RunBudget | None = None  # the untrusted run's, while one runs
+        self.budget_seconds = DEFAULT_SECONDS  # a new run's time budget (scr_budget, the user's alone)
         self._expanding = 0  # run_lines nesting, and the commands run since the outermost began
         self._expanded = 0
         self.commands_run = 0  # every command dispatched, nested ones too: what a script's budget is charged
         self._recorded_args: list[str] | None = None  # set by the command running now: see record_args
+        # (kind "read" or "write", the name given) -> the path the command gets: the file policy (files.py)
+        self.file_policy: Callable[[str, str], str] | None = None
 
     @property
     def trusted(self) -> bool:
@@ -149,13 +159,29 @@ class Console:
         return not self.origins
 
     @contextmanager
-    def untrusted(self, kind: str, home: Path | None = None):
-        """Commands run inside come from a script, demo, config, bind or alias: files.py confines them."""
-        self.origins.append(Origin(kind, home))
+    def untrusted(self, kind: str, home: Path | None = None, budget: RunBudget | None = None):
+        """Commands run inside come from a script, demo, config, bind or alias: files.py confines them, and the
+        outermost one's `budget` (a new one unless given: a demo keeps its own over every update) bounds them."""
+        with self._running_as(Origin(kind, home), budget):
+            yield
+
+    @contextmanager
+    def _running_as(self, origin: Origin | None, budget: RunBudget | None = None):
+        if origin is None:  # the editor's own lines
+            yield
+            return
+        outermost = not self.origins
+        if outermost:
+            self.budget = budget or RunBudget(self.budget_seconds)
+            self.budget.enter()
+        self.origins.append(origin)
         try:
             yield
         finally:
             self.origins.pop()
+            if outermost:
+                self.budget.leave()
+                self.budget = None
 
     @contextmanager
     def as_user(self):
@@ -167,7 +193,7 @@ class Console:
         finally:
             self.origins = outer
 
-    def run_lines(self, lines, label: str, origin: Origin, on_failure=None) -> bool:
+    def run_lines(self, lines, label: str, origin: Origin | None, on_failure=None) -> bool:
         """Run the lines an alias or a config file holds, as `origin`; False if any failed (each reported
         through on_failure(number, line), the rest still run). With everything they run in turn, at most
         MAX_EXPANDED commands: past that the outermost alias or config stops, with one message."""
@@ -175,14 +201,14 @@ class Console:
         if outermost:
             self._expanded = 0
         self._expanding += 1
-        self.origins.append(origin)
         ok = True
-        try:
-            for number, line in enumerate(lines, start=1):
-                if not self.execute(line, echo=False):
-                    ok = False
-                    if on_failure is not None:
-                        on_failure(number, line)
+        try:  # origin None: the editor's own lines (its start configs), with the user's trust
+            with self._running_as(origin):
+                for number, line in enumerate(lines, start=1):
+                    if not self.execute(line, echo=False):
+                        ok = False
+                        if on_failure is not None:
+                            on_failure(number, line)
         except RunawayError as exc:
             if not outermost:
                 raise
@@ -190,7 +216,6 @@ class Console:
             return False
         finally:
             self._expanding -= 1
-            self.origins.pop()
         return ok
 
     def record_args(self, args: list[str]) -> None:
@@ -202,6 +227,8 @@ class Console:
         if len(text) > MAX_LOG_LINE:
             text = f"{text[:MAX_LOG_LINE]}... ({len(text) - MAX_LOG_LINE} more characters not shown)"
         line = LogLine(level, text)
+        if self.budget is not None:
+            self.budget.printed += len(text)
         self.log.append(line)
         self.printed += 1
         self._log_chars += len(text)
@@ -253,7 +280,8 @@ class Console:
                 if frames is None:
                     return False
                 if commands[i + 1:]:
-                    self.waiting.append((frames, commands[i + 1:], self._wait_chain + 1))
+                    self.waiting.append((frames, commands[i + 1:], self._wait_chain + 1, tuple(self.origins),
+                                         self.budget))
                 return ok
             ok = self._run(words) and ok
         return ok
@@ -262,14 +290,23 @@ class Console:
         """Advance one frame: run the commands whose `wait` is over. Hosts call this per frame."""
         due, self.waiting = self.waiting, []
         ok = True
-        for frames, commands, chain in due:
+        for frames, commands, chain, origins, budget in due:
             if frames > 1:
-                self.waiting.append((frames - 1, commands, chain))
+                self.waiting.append((frames - 1, commands, chain, origins, budget))
                 continue
+            if budget is not None and budget.told:
+                continue  # its run was stopped (and said so): what it left waiting goes too
             self._wait_chain = chain
+            outer_origins, outer_budget = self.origins, self.budget
+            self.origins, self.budget = list(origins), budget
+            if budget is not None:
+                budget.enter()
             try:
                 ok = self._run_all(commands) and ok
             finally:
+                if budget is not None:
+                    budget.leave()
+                self.origins, self.budget = outer_origins, outer_budget
                 self._wait_chain = 0
         return ok
 
@@ -282,12 +319,20 @@ class Console:
             self.error("wait: usage: wait [frames], frames within 1..100000")
             return None
         if self._wait_chain >= MAX_WAIT_CHAIN:
-            self.error(f"wait: {MAX_WAIT_CHAIN} waits in a row (an alias that waits and calls itself?); stopped")
-            return None
+            return self._refuse_wait(f"{MAX_WAIT_CHAIN} waits in a row (an alias that waits and calls itself?); "
+                                     "stopped")
         if len(self.waiting) >= MAX_WAITING:
-            self.error(f"wait: {MAX_WAITING} lines are waiting already; refused")
-            return None
+            return self._refuse_wait(f"{MAX_WAITING} lines are waiting already; refused")
         return frames
+
+    def _refuse_wait(self, why: str) -> None:
+        """Say it once: an untrusted run that overflows the waits is stopped whole (what it left waiting goes)."""
+        if self.budget is None:
+            self.error(f"wait: {why}")
+        elif not self.budget.told:
+            self.budget.stopped, self.budget.told = f"wait: {why}; the run is stopped", True
+            self.error(self.budget.stopped)
+        return None
 
     def _run(self, words: list[str]) -> bool:
         name, args = words[0], words[1:]
@@ -306,6 +351,7 @@ class Console:
                     raise RunawayError(f"more than {MAX_EXPANDED} commands from one alias or config "
                                        "(one that calls itself?); stopped")
             self.commands_run += 1
+            self._within_budget()
             recorded = self._dispatch(name, args)
             if self._recorded_args is not None:
                 words = [name, *self._recorded_args]
@@ -324,13 +370,32 @@ class Console:
             self._recorded_args = outer
         if recorded is None:
             return False
-        text = shlex.join(words)
+        text = join(words)
         for listener in self.executed_listeners:
             listener(text)
         if recorded:
             for listener in self.record_listeners:
                 listener(text)
         return True
+
+    def _within_budget(self) -> None:
+        """Refuse every command of an untrusted run past its budget: an alias or config unwinds whole, a script
+        or a demo sees its command fail and stops; one message says why."""
+        why = None if self.budget is None else self.budget.exhausted()
+        if why is None:
+            return
+        if self._expanding:
+            raise RunawayError(why)
+        if self.budget.told:
+            raise Reported(why)
+        self.budget.told = True
+        raise CommandError(why)
+
+    def _refuse(self, name: str) -> None:
+        """A user-only command or cvar asked for by untrusted content: the one place capabilities are enforced."""
+        if not self.trusted:
+            raise CommandError(f"{self.origins[-1].who()} may not run {name}: it is the user's own "
+                               "(type it yourself)")
 
     def _dispatch(self, name: str, args: list[str]) -> bool | None:
         """Run one command; True if it should be recorded, None if it failed (already logged)."""
@@ -342,11 +407,19 @@ class Console:
                 return False
             if len(args) > 1:
                 raise CommandError(f"{name} takes one value; quote it if it has spaces")
-            cvar.set(args[0])
+            if cvar.allow != SCRIPTS:
+                self._refuse(name)
+            cvar.set(args[0], trusted=self.trusted)
             return True
         cmd = reg.commands.get(name)  # resolved in the current workspace
         if cmd is not None:
-            cmd.handler(*cmd.bind(args))
+            if cmd.allow != SCRIPTS:
+                self._refuse(name)
+            values = cmd.bind(args)
+            for i, param in enumerate(cmd.params[:len(values)]):
+                if param.file and self.file_policy is not None:
+                    values[i] = self.file_policy(param.file, values[i])
+            cmd.handler(*values)
             return cmd.recorded
         if name in reg.aliases:
             if args:

@@ -28,6 +28,7 @@ MAGIC = "shadelab-demo"
 VERSION = 1
 # Bounds that keep every due time a host computes (start + time / speed) a number it can sleep until.
 MAX_TIME = 86_400.0  # seconds: a day
+SLICE_S = 0.05  # what one update may spend running due commands before the host gets the thread back
 MIN_SPEED, MAX_SPEED = 1 / 64, 64.0
 MAX_BYTES = 16 << 20  # an hour of drags recorded at 60 lines a second is about 20 MB: cut a longer one
 
@@ -305,12 +306,14 @@ class Player:
             self.start += self.clock.now() - self.paused_at
             self.paused_at = None
 
-    def update(self) -> None:
-        """Run every command whose time has come; stop at one that fails, whose state the rest relied on."""
+    def update(self, slice_s: float = SLICE_S) -> None:
+        """Run the commands whose time has come, for `slice_s` at most: a host calls again after its other work,
+        so many commands due at once never freeze it. Stop at one that fails, whose state the rest relied on."""
         if self.paused_at is not None:
             return
         elapsed = self.elapsed()
-        while not self.done and self.events[self.index].time <= elapsed:
+        until = time.monotonic() + slice_s
+        while not self.done and self.events[self.index].time <= elapsed and time.monotonic() < until:
             if not self.console.execute(self.events[self.index].line):
                 self.failed_at = self.index
             self.index += 1

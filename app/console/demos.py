@@ -7,7 +7,8 @@ from typing import Callable
 
 from app.console import demo, files
 from app.console.console import Console
-from app.console.registry import CommandError
+from app.console.budget import RunBudget
+from app.console.registry import SCRIPTS, CommandError
 from app.console.text import count
 
 DEMO_SUFFIX = ".demo"
@@ -31,6 +32,7 @@ class Demos:
         self.recorder: demo.Recorder | None = None
         self.player: demo.Player | None = None
         self._home: Path | None = None  # the folder of the demo playing: its lines may read beside it
+        self._budget: RunBudget | None = None  # the demo playing's, over all its updates
         self.arg_checks = demo.ArgChecks()  # the command modules add theirs; every demo is checked with them
         self._register()
 
@@ -42,7 +44,7 @@ class Demos:
         """Hosts call this often while playing (a Qt timer; the headless loop after sleeping). A demo's
         lines run untrusted: they read only beside it, in the user folder and the resources."""
         if self.player is not None:
-            with self.console.untrusted("demo", self._home):
+            with self.console.untrusted("demo", self._home, self._budget):
                 self.player.update()
 
     def _load(self, name: str) -> tuple[list[demo.Event], Path]:
@@ -78,7 +80,7 @@ class Demos:
         demo_files = lambda p: files.complete(p, (DEMO_SUFFIX,))  # noqa: E731
 
         @reg.command("record", "demo", "Record every command with its time into a .demo file (stop ends it)",
-                     recorded=False)
+                     recorded=False, allow=SCRIPTS)
         def record(name: str) -> None:
             if self.recorder is not None:
                 raise CommandError(f"already recording {self.recorder.path}; stop first")
@@ -86,25 +88,26 @@ class Demos:
             self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble(path))
             self.console.print(f"recording to {path}")
 
-        @reg.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False)
+        @reg.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False, allow=SCRIPTS)
         def stop() -> None:
             if self.recorder is None and self.player is None:
                 raise CommandError("nothing is recording or playing")
             self.stop_all()
 
         @reg.command("play", "demo [speed:float]", "Replay a demo at its recorded times (speed 2 = twice as fast)",
-                     recorded=False, completer=demo_files)
+                     recorded=False, completer=demo_files, allow=SCRIPTS)
         def play(name: str, speed: float = 1.0) -> None:
             if self.player is not None:
                 raise CommandError("a demo is already playing; stop it first")
             demo.check_speed(speed)  # before reading the file: a refused speed needs no file
             events, self._home = self._load(name)
+            self._budget = RunBudget(self.console.budget_seconds)
             self.player = demo.Player(self.console, self.clock, events, speed, on_done=lambda: self._finished(name))
             self.console.print(f"playing {_demo_path(name)}: {count(len(events), 'command')}, "
                                f"{events[-1].time / speed if events else 0:.1f} s")
             self.update()
 
-        @reg.command("pause", "", "Pause or resume the demo playing", recorded=False)
+        @reg.command("pause", "", "Pause or resume the demo playing", recorded=False, allow=SCRIPTS)
         def pause() -> None:
             if self.player is None:
                 raise CommandError("no demo is playing")
@@ -116,13 +119,14 @@ class Demos:
                 self.console.print("resumed")
 
         @reg.command("timedemo", "demo", "Replay a demo as fast as possible, a frame per time step, and "
-                     "print frames per second", recorded=False, completer=demo_files)
+                     "print frames per second", recorded=False, completer=demo_files, allow=SCRIPTS)
         def timedemo(name: str) -> None:
             events, home = self._load(name)
             frames = 0
             start = time.perf_counter()
+            budget = RunBudget(self.console.budget_seconds)  # one for the whole demo, as it plays
             for i, event in enumerate(events):
-                with self.console.untrusted("demo", home):
+                with self.console.untrusted("demo", home, budget):
                     ok = self.console.execute(event.line, echo=False)
                 if not ok:  # it logged why; the rest relied on it
                     raise CommandError(f"{_demo_path(name)}: {demo.stopped(events, i)}")

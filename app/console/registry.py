@@ -24,6 +24,29 @@ class Reported(CommandError):
 _CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029]")
 
 
+def quote(word: str) -> str:
+    """A word as the console reads it back whole: shlex's quoting, and quotes too round a `//`, which would start a
+    comment (shlex leaves slashes bare). Every line Shadelab writes for itself to read again (config.cfg, a demo,
+    a recorded line) quotes its words here."""
+    quoted = shlex.quote(word)
+    return f"'{word}'" if quoted == word and "//" in word else quoted
+
+
+def join(words) -> str:
+    return " ".join(quote(str(w)) for w in words)
+
+
+# The names a user or script may give a new alias or cvar, or a bind's workspace: a letter or underscore, then
+# letters, digits, underscores and dots. Anything else could come back from config.cfg as more than one word.
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.]{0,63}")
+
+
+def check_new_name(what: str, name: str) -> str:
+    if not NAME.fullmatch(name):
+        raise ValueError(f"{what} {name!r} is no name: a letter or _, then letters, digits, _ and . (64 at most)")
+    return name
+
+
 def check_text(what: str, text: str) -> str:
     """Refuse console text that holds a control character (a newline, say); else return it."""
     found = _CONTROL.search(text)
@@ -32,12 +55,22 @@ def check_text(what: str, text: str) -> str:
     return text
 
 
+# Who may run a command or set a cvar (docs/architecture.md rule 6), declared where it is registered and enforced by
+# the console in one place. USER: only the user's own lines (typed, a menu, a dialog); the default, so a new command
+# is safe until someone decides otherwise. SCRIPTS: scripts, demos, configs, binds and aliases may run it too, their
+# file parameters confined by the file policy (app/console/files.py).
+USER, SCRIPTS = "user", "scripts"
+ALLOWED = {USER: "the user only", SCRIPTS: "scripts too"}
+FILE_KINDS = ("read", "write")  # a parameter naming a file the command reads, or one it writes
+
+
 @dataclass(frozen=True)
 class Param:
     name: str
     type: type = str  # str, int or float
     optional: bool = False
     variadic: bool = False  # takes every remaining argument (a list)
+    file: str | None = None  # "read" or "write": a file, resolved by the console's file policy before the handler
 
     def usage(self) -> str:
         text = f"<{self.name}>" + ("..." if self.variadic else "")
@@ -53,7 +86,9 @@ def parse_params(spec: str) -> tuple[Param, ...]:
         variadic = word.endswith("...")
         word = word.removesuffix("...")
         name, _, kind = word.partition(":")
-        params.append(Param(name, {"": str, "str": str, "int": int, "float": float}[kind], optional, variadic))
+        file = kind if kind in FILE_KINDS else None
+        params.append(Param(name, str if file else {"": str, "str": str, "int": int, "float": float}[kind], optional,
+                            variadic, file))
     return tuple(params)
 
 
@@ -67,6 +102,7 @@ class Command:
     recorded: bool = True  # False for queries and for commands that only run others (exec, lua, play)
     quiet: bool = False    # sent many times a second by a drag or hover: run without echoing the line
     scope: str | None = None  # the workspace that owns it; None: global
+    allow: str = USER  # who may run it: USER or SCRIPTS
 
     @property
     def key(self) -> str:
@@ -79,6 +115,15 @@ class Command:
 
     def usage(self) -> str:
         return " ".join([self.name, *(p.usage() for p in self.params)])
+
+    def capability(self) -> str:
+        """What untrusted content may do with it, in words (help and docs/console.md's table)."""
+        if self.allow != SCRIPTS:
+            return "the user only"
+        kinds = {p.file for p in self.params if p.file}
+        notes = [note for kind, note in (("read", "reads from the sandbox, the resources or beside the script"),
+                                         ("write", "writes into the sandbox")) if kind in kinds]
+        return "scripts too" + (f" ({'; '.join(notes)})" if notes else "")
 
     def bind(self, args: list[str]) -> list[Any]:
         """Convert the text arguments to the handler's types, or refuse with the usage line."""
@@ -126,9 +171,11 @@ class Cvar:
     on_change: list[Callable[["Cvar"], None]] = field(default_factory=list)
     user_created: bool = False  # made by `set`; a later registration of the name takes it over
     choices: tuple | None = None  # the only values it takes, of its type (words, or numbers such as 1, 3, 5)
+    allow: str = SCRIPTS  # who may set it: a setting a demo or script may change, unless declared USER
 
     def __post_init__(self) -> None:
         self.value = self.parse(str(self.default))
+        self.kept = self.value  # the value the user gave: what config.cfg keeps (a script's lasts the session)
 
     def parse(self, text: str) -> Any:
         check_text(f"{self.name}'s value", text)
@@ -147,8 +194,11 @@ class Cvar:
             raise CommandError(f"{self.name} must be one of {', '.join(map(str, self.choices))}, got {text!r}")
         return value
 
-    def set(self, text: str) -> None:
+    def set(self, text: str, trusted: bool = True) -> None:
+        """Validate and set; `trusted`: the user's own value, which config.cfg keeps."""
         value = self.parse(text)
+        if trusted:
+            self.kept = value
         if value == self.value:
             return
         old = self.value
@@ -166,15 +216,17 @@ class Cvar:
             return number(self.value)
         return self.serialise()
 
-    def assignment(self) -> str:
-        """The command that gives it this value again (configs, a demo's opening lines)."""
-        return f"{'seta' if self.archive else 'set'} {self.name} {shlex.quote(self.serialise())}"
+    def assignment(self, kept: bool = False) -> str:
+        """The command that gives it this value again (a demo's opening lines), or the user's own (`kept`: configs)."""
+        value = self.serialise(self.kept if kept else self.value)
+        return f"{'seta' if self.archive else 'set'} {self.name} {quote(value)}"
 
-    def serialise(self) -> str:
+    def serialise(self, value: Any = None) -> str:
         """For files, demos and digests: floats exact (repr round-trips)."""
+        value = self.value if value is None else value
         if self.type is bool:
-            return "1" if self.value else "0"
-        return repr(self.value) if self.type is float else str(self.value)
+            return "1" if value else "0"
+        return repr(value) if self.type is float else str(value)
 
 
 class CommandTable(Mapping[str, Command]):
@@ -208,15 +260,20 @@ class Registry:
         self.commands = CommandTable(self)
         self.cvars: dict[str, Cvar] = {}
         self.aliases: dict[str, str] = {}
+        self.kept_aliases: dict[str, str] = {}  # those the user made, which config.cfg keeps (a script's: the session)
         self.cvar_changes = 0  # counts every cvar change: hosts redraw when it moves
         self.scope: str | None = None  # the current workspace: the editor sets it when it switches
 
     def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True,
-                quiet: bool = False, scope: str | None = None):
-        """Decorator: register `handler` under `name` with an argument spec like 'x:float [y:int]'."""
+                quiet: bool = False, scope: str | None = None, allow: str = USER):
+        """Decorator: register `handler` under `name` with an argument spec like 'x:float [y:int] path:write', and
+        who may run it (`allow`, USER unless declared)."""
+        if allow not in ALLOWED:
+            raise ValueError(f"{name}: allow must be one of {', '.join(ALLOWED)}, not {allow!r}")
 
         def register(handler):
-            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded, quiet, scope))
+            self.add_command(Command(name, handler, parse_params(spec), help, completer, recorded, quiet, scope,
+                                     allow))
             return handler
 
         return register
@@ -263,11 +320,14 @@ class Registry:
     def _count_change(self, _cvar: Cvar) -> None:
         self.cvar_changes += 1
 
-    def set_alias(self, name: str, text: str) -> None:
+    def set_alias(self, name: str, text: str, trusted: bool = True) -> None:
         check_text(f"alias {name}", text)
         if name not in self.aliases:
+            check_new_name("an alias", name)
             self._claim(name)
         self.aliases[name] = text
+        if trusted:
+            self.kept_aliases[name] = text
 
     def names(self, qualified: bool = False) -> list[str]:
         """What Tab completes: global names, cvars, aliases and scoped commands' bare names; `qualified`
@@ -307,8 +367,8 @@ class ScopedRegistry:
         self._registry, self._scope = registry, scope  # `scope` itself reads the registry's (the current one)
 
     def command(self, name: str, spec: str = "", help: str = "", completer=None, recorded: bool = True,
-                quiet: bool = False):
-        return self._registry.command(name, spec, help, completer, recorded, quiet, scope=self._scope)
+                quiet: bool = False, allow: str = USER):
+        return self._registry.command(name, spec, help, completer, recorded, quiet, scope=self._scope, allow=allow)
 
     def __getattr__(self, attribute: str):
         return getattr(self._registry, attribute)

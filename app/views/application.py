@@ -56,9 +56,10 @@ def run_editor(args: argparse.Namespace) -> int:
     window = MainWindow()
     if args.size:
         window.resize(*(int(v) for v in args.size.lower().split("x")))
-    for line in ([startup_command(args.file)] if args.file else []) + args.cmd:
-        window.run(line)
     window.show()
+    # after the window shows: a long script or demo then runs in a window that answers (and shows its progress)
+    lines = ([startup_command(args.file)] if args.file else []) + args.cmd
+    QTimer.singleShot(0, lambda: [window.run(line) for line in lines])
     if args.screenshot:
         deadline = time.monotonic() + (SCREENSHOT_DELAY_MS + SCREENSHOT_WAIT_MS) / 1e3
 

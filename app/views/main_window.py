@@ -82,11 +82,24 @@ class MainWindow(QMainWindow):
         QTimer.singleShot(0, weak_callback(self.autosave, "offer_recovery"))  # once the window is up
 
     def _tick(self) -> None:
-        self.editor.demos.update()
+        self.editor.demos.update()  # a slice of the commands due: the window stays responsive through a demo
         self.editor.console.frame()
         self.refresh()
+        player = self.editor.demos.player
+        if player is not None:
+            self.statusBar().showMessage(f"playing a demo: {player.index} of {len(player.events)} commands "
+                                         "(Esc stops)")
+        elif self.statusBar().currentMessage().startswith("playing a demo"):
+            self.statusBar().clearMessage()
         if not (self.editor.demos.playing or self.editor.console.waiting):
             self.ticker.stop()
+
+    def keyPressEvent(self, event) -> None:
+        """Esc stops a demo playing (keys the viewport and the panels did not take come here)."""
+        if event.key() == Qt.Key.Key_Escape and self.editor.demos.playing:
+            self.run("stop")
+        else:
+            super().keyPressEvent(event)
 
     def closeEvent(self, event) -> None:
         """Unsaved scenes are saved or discarded first (or the window stays); the layout is kept, and Quake

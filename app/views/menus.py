@@ -12,7 +12,7 @@ from PySide6.QtCore import QObject, Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDialog, QLabel, QMessageBox, QScrollArea, QVBoxLayout
 
-from app.console.registry import CommandError
+from app.console.registry import SCRIPTS, CommandError
 from app.model.workspaces import workspace_title
 from app.views.docs_viewer import DocsViewer
 from app.views.edit_keys import EditKeys
@@ -90,17 +90,17 @@ class Menus(QObject):
     def _register(self) -> None:
         reg = self.window.editor.console.registry
         reg.command("ui.dock", "name [shown:int]", "Show (1) or hide (0) a dock, or toggle it: "
-                    + ", ".join(self.window.docks), recorded=False,
+                    + ", ".join(self.window.docks), recorded=False, allow=SCRIPTS,
                     completer=lambda p: [k for k in self.window.docks if k.startswith(p)])(
             weak_callback(self, "show_dock"))
         reg.command("ui.resetlayout", "", "Put the docks and toolbars back where they start (View > Reset Layout)",
-                    recorded=False)(weak_callback(self.window, "reset_layout"))
+                    recorded=False, allow=SCRIPTS)(weak_callback(self.window, "reset_layout"))
         reg.command("ui.keys", "", "Show the keys and mouse of the current workspace (Help > Keys)",
-                    recorded=False)(weak_callback(self, "show_keys"))
+                    recorded=False, allow=SCRIPTS)(weak_callback(self, "show_keys"))
         reg.command("ui.docs", "", "Open the current workspace's documentation (Help > Documentation)",
-                    recorded=False)(weak_callback(self, "open_docs"))
+                    recorded=False, allow=SCRIPTS)(weak_callback(self, "open_docs"))
         reg.command("ui.about", "", "Say which Shadelab, Qt and OpenGL this is (Help > About)",
-                    recorded=False)(weak_callback(self, "about"))
+                    recorded=False, allow=SCRIPTS)(weak_callback(self, "about"))
 
     def sync(self) -> None:
         """Name the steps undo and redo would take, and offer file actions only where there are scene files."""

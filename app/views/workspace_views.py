@@ -19,6 +19,7 @@ from app.views.slice_picker import SlicePicker
 from app.views.snowflake_panel import SnowflakePanel
 from app.views.snowflake_tool import SnowflakeTool
 from app.views.volume_tool import VolumeTool
+from app.console.registry import SCRIPTS
 
 
 DEFAULT_DOCK_WIDTH = 260
@@ -61,17 +62,18 @@ def volume_panel(window, state, tool) -> QWidget:
         colour = QColorDialog.getColor(QColor(*rgba), window, title, options)
         return colour if colour.isValid() else None
 
-    @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c)", recorded=False)
+    @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c)", recorded=False,
+                 allow=SCRIPTS)
     def brush_colour() -> None:
         if colour := colour_dialog("Brush colour", view.brush, alpha=True):
             window.run(f"brush.color {colour.red()} {colour.green()} {colour.blue()} {colour.alpha()}")
 
-    @reg.command("ui.background", "", "Choose the 3D view's background colour (key c)", recorded=False)
+    @reg.command("ui.background", "", "Choose the 3D view's background colour (key c)", recorded=False, allow=SCRIPTS)
     def background() -> None:
         if colour := colour_dialog("Background colour", view.background, alpha=False):
             window.run(f"vol.background {colour.red()} {colour.green()} {colour.blue()}")
 
-    @reg.command("ui.slicepicker", "", "Open the slice picker (key v)", recorded=False)
+    @reg.command("ui.slicepicker", "", "Open the slice picker (key v)", recorded=False, allow=SCRIPTS)
     def slice_picker() -> None:
         if painter.picker is None:
             painter.picker = SlicePicker(state, tool, window.run, window)
