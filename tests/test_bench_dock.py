@@ -3,6 +3,7 @@ progress and a cancel, never widens the window, keeps its axes' numbers true acr
 label over another and names the point under the mouse."""
 import itertools
 import re
+import sys
 
 import pytest
 import pyqtgraph as pg
@@ -137,6 +138,49 @@ def test_a_quick_bench_shows_progress_and_can_be_cancelled(cache, window, qtbot)
     assert not dock.progress.isVisible() and not dock.cancel_button.isVisible() and dock.run_button.isEnabled()
     assert not (bench_dir() / "snowflake.csv").exists()  # nothing half written
     assert dock.pages.currentWidget() is dock.hint
+
+
+def test_a_quick_bench_pauses_the_view_and_its_chart_says_where_it_was_measured(cache, window, qtbot):
+    """Broken: a setting timed 131.9 ms in the dock took 19-24 ms from the CLI: the editor drew its own frames
+    beside the measurement. The view now draws nothing while the bench runs, and draws what changed after."""
+    settle(qtbot, window)
+    dock, view = window.bench, window.viewport
+    qtbot.mouseClick(dock.run_button, Qt.MouseButton.LeftButton)
+    assert view.paused
+    frames = view.frames
+    assert window.run("snow.level 3")  # a change that draws a frame
+    qtbot.wait(200)
+    assert dock.process is not None and view.frames == frames  # still measuring, nothing drawn
+    qtbot.waitUntil(lambda: dock.process is None, timeout=60000)
+    assert not view.paused and dock.status.text().startswith("snowflake.csv: ")
+    qtbot.waitUntil(lambda: view.frames > frames, timeout=10000)  # the change, drawn once resumed
+    rows = report.read_csv(bench_dir() / "snowflake.csv")
+    assert {r[report.MEASURED_IN] for r in rows} == {"editor"}
+    assert dock.drawing.shown.notes[-1] == "measured in the editor, view paused"
+    assert dock.drawing.note.text.endswith("<br>measured in the editor, view paused")
+
+
+@pytest.mark.parametrize("ending", ["cancelled", "failed", "never started"])
+def test_the_view_draws_again_however_the_bench_ends(cache, window, qtbot, monkeypatch, tmp_path, ending):
+    settle(qtbot, window)
+    dock, view = window.bench, window.viewport
+    if ending == "failed":  # the results' folder is a file: the bench measures, then cannot write its CSV
+        bench_dir().parent.mkdir(parents=True, exist_ok=True)
+        bench_dir().write_text("not a folder")
+    if ending == "never started":
+        monkeypatch.setattr(sys, "executable", str(tmp_path / "no-such-python"))
+    qtbot.mouseClick(dock.run_button, Qt.MouseButton.LeftButton)
+    if ending == "cancelled":
+        assert view.paused
+        qtbot.mouseClick(dock.cancel_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: dock.process is None, timeout=60000)
+    assert not view.paused and dock.run_button.isEnabled() and not dock.cancel_button.isVisible()
+    status = {"cancelled": "quick bench of snowflake cancelled", "failed": "quick bench of snowflake failed (exit 1)",
+              "never started": "quick bench of snowflake could not start"}[ending]
+    assert dock.status.text().startswith(status)
+    frames = view.frames
+    assert window.run("snow.level 3")
+    qtbot.waitUntil(lambda: view.frames > frames, timeout=10000)
 
 
 @pytest.mark.parametrize("dock_width", [260, 420])
