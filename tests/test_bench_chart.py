@@ -46,7 +46,7 @@ def test_the_legend_is_beside_the_plots_and_names_the_methods_and_the_scene_mark
     legend = drawing.legend.sceneBoundingRect()
     assert legend.width() > 0 and legend.height() > 0
     for plot in drawing.plots():
-        assert not legend.intersects(plot.vb.sceneBoundingRect()), plot.titleLabel.text
+        assert not legend.intersects(plot.vb.sceneBoundingRect()), drawing.titles[plot].text
 
 
 def test_clicking_a_legend_entry_hides_its_methods_or_its_scenes_lines():
@@ -101,7 +101,7 @@ def test_exact_to_float32_draws_time_alone_and_says_so(where, note):
     assert label == "exact to float32 (error < 10⁻⁶): time only"
     assert shown.notes == [label, *([note] if note else [])]
     assert drawing.note.text == "<br>".join(html.escape(n) for n in shown.notes)  # '<' shown, not markup
-    assert drawing.time_plot.titleLabel.text == "Frame time against level, per scene"
+    assert drawing.titles[drawing.time_plot].text == "Frame time against level, per scene"
     assert drawing.time_plot.vb.sceneBoundingRect().width() > widget.width() * 0.7  # it takes the room
     # one error at EXACT_ERROR (RMSE or max) is a method's error: the error plot is back
     rows[5]["max_abs_error"] = report.EXACT_ERROR
@@ -124,7 +124,7 @@ def test_clearing_leaves_no_line_title_note_or_legend():
     assert not any(plot.listDataItems() for plot in (drawing.error_plot, drawing.time_plot))
     assert not drawing.legend.isVisible() and not drawing.note.isVisible() and not drawing.lines
     assert drawing.legend_entries() == {"methods": [], "scenes": []}
-    assert not drawing.time_plot.titleLabel.isVisible() and drawing.time_plot.getAxis("left").labelText == ""
+    assert not drawing.titles[drawing.time_plot].isVisible() and drawing.time_plot.getAxis("left").labelText == ""
 
 
 def test_log_ticks_read_as_plain_numbers_and_powers_of_ten_only_far_out():

@@ -2,7 +2,9 @@
 progress and a cancel, never widens the window, keeps its axes' numbers true across workspaces, draws no tick
 label over another and names the point under the mouse."""
 import itertools
+import os
 import re
+import subprocess
 import sys
 
 import pytest
@@ -204,6 +206,18 @@ def test_the_dock_lays_its_legend_under_the_plots_within_its_width(cache, make_w
                  drawing.time_plot):  # nothing runs past the dock's right edge
         assert item.sceneBoundingRect().right() <= view.width() + 1, (item, dock_width)
     assert drawing.scene_legend.columnCount < len(scenes) < drawing.method_legend.columnCount + 2
+
+
+def test_the_editor_quits_cleanly_with_the_chart_shown(cache, tmp_path):
+    """Broken twice while the chart was remade: an item Python owned but a layout held crashed the window's
+    close, and one handed to Python at exit ran its Python code as the interpreter ended."""
+    snowflake_bench()  # exact: the error plot hidden, out of the layout
+    shot = tmp_path / "x.png"
+    run = subprocess.run([sys.executable, "-m", "app", "--cmd", "workspace snowflake", "--size", "900x600",
+                          "--screenshot", str(shot)], capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "PYTHONPATH": os.getcwd()})
+    assert run.returncode == 0, run.stderr
+    assert shot.is_file()
 
 
 def test_switching_workspaces_keeps_the_rmse_axis_true(cache, make_window, qtbot):

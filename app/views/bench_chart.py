@@ -67,7 +67,8 @@ class ChartAxis(pg.AxisItem):
 
 class ShrinkingLabel(pg.LabelItem):
     """A label that asks for its text's height but not its width: a long one is cut at the chart's edge rather
-    than widening the chart past its view (a narrow dock showed only the left of each plot)."""
+    than widening the chart past its view (a plot's own title did: a narrow dock showed only the left of each
+    plot). The chart's titles and note are these, laid out above the plots."""
 
     def updateMin(self):
         super().updateMin()
@@ -78,14 +79,6 @@ class ShrinkingLabel(pg.LabelItem):
         overflow = self.itemRect()
         if overflow.width() > self.width():  # cut at its end, its start readable
             self.item.moveBy(-overflow.left(), 0)
-
-
-def shrinking_title(plot: pg.PlotItem) -> None:
-    """The plot's title in a ShrinkingLabel; pyqtgraph's own stays its child, hidden and out of its layout."""
-    plot.titleLabel.hide()
-    plot.layout.removeItem(plot.titleLabel)
-    plot.titleLabel = ShrinkingLabel(" ", size="11pt", parent=plot)
-    plot.layout.addItem(plot.titleLabel, 0, 1)
 
 
 class Legend(pg.LegendItem):
@@ -115,8 +108,7 @@ class BenchChart:
         self.error_plot = pg.PlotItem(axisItems=self._axes())
         self.time_plot = pg.PlotItem(axisItems=self._axes())
         self.note = ShrinkingLabel(justify="left")
-        for plot in (self.error_plot, self.time_plot):
-            shrinking_title(plot)
+        self.titles = {plot: ShrinkingLabel(size="11pt") for plot in (self.error_plot, self.time_plot)}
         self.methods_heading = pg.LabelItem("methods (colour)", justify="left", color=MUTED, size="8pt")
         self.scenes_heading = pg.LabelItem("scenes (marker)", justify="left", color=MUTED, size="8pt")
         self.method_legend, self.scene_legend = Legend(), Legend()
@@ -135,7 +127,7 @@ class BenchChart:
         # Each item the layout's child for good, laid out or hidden: one that Python alone owned would be deleted
         # by Python while a layout still held it (a crash as the window closed). Set after construction, so that
         # pyqtgraph hears of its scene (a view box in one from birth never fits its range to its lines).
-        for item in (self.error_plot, self.time_plot, self.note, self.legend):
+        for item in (self.error_plot, self.time_plot, self.note, *self.titles.values(), self.legend):
             item.setParentItem(layout)
         self.shown = Chart()
         self.lines: dict[pg.PlotDataItem, Line] = {}  # every drawn line and what it draws
@@ -156,12 +148,12 @@ class BenchChart:
         return [self.time_plot] if self.shown.exact else [self.error_plot, self.time_plot]
 
     def _arrange(self) -> None:
-        """The note above the plots, the legend beside them (side by side) or under them (stacked); what is not
-        shown is hidden, out of the grid."""
+        """The note above the plots, each plot under its title, the legend beside them (side by side) or under
+        them (stacked); what is not shown is hidden, out of the grid."""
         grid = self.layout.layout
         while grid.count():
             grid.removeAt(grid.count() - 1)
-        for item in (self.note, self.error_plot, self.time_plot, self.legend):
+        for item in (self.note, self.error_plot, self.time_plot, *self.titles.values(), self.legend):
             item.hide()
 
         def place(item, row: int, col: int, colspan: int = 1) -> None:
@@ -169,13 +161,16 @@ class BenchChart:
             item.show()
 
         plots = self.plots()
-        has_note = bool(self.note.text)
-        if has_note:
+        top = int(bool(self.note.text))
+        if top:
             place(self.note, 0, 0, colspan=1 if self.stacked else len(plots))
         for i, plot in enumerate(plots):
-            place(plot, *((has_note + i, 0) if self.stacked else (int(has_note), i)))
+            row, col = (top + 2 * i, 0) if self.stacked else (top, i)
+            if self.titles[plot].text:
+                place(self.titles[plot], row, col)
+            place(plot, row + 1, col)
         if self.shown.colours:
-            place(self.legend, *((int(has_note) + len(plots), 0) if self.stacked else (int(has_note), len(plots))))
+            place(self.legend, *((top + 2 * len(plots), 0) if self.stacked else (top + 1, len(plots))))
             grid.setAlignment(self.legend, Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignTop)
 
     def show(self, rows: list[dict]) -> Chart:
@@ -188,7 +183,7 @@ class BenchChart:
             err.setLogMode(x=True, y=True)
             err.setLabel("bottom", "frame time (ms)")
             err.setLabel("left", "RMSE (0..1)")
-            err.setTitle(shown.error_title)
+            self.titles[err].setText(shown.error_title)
             for line in shown.error_lines:
                 self._draw(err, line, line.ms, line.error, width=2)
         tim.setLogMode(x=False, y=True)
@@ -197,7 +192,7 @@ class BenchChart:
         if len(settings) <= MAX_KNOB_TICKS:  # ticks at the settings measured, not at levels between them
             tim.getAxis("bottom").setTicks([[(k, number_text(k)) for k in settings]])
         tim.setLabel("left", "frame time (ms)")
-        tim.setTitle(shown.time_title)
+        self.titles[tim].setText(shown.time_title)
         for line in shown.time_lines:
             self._draw(tim, line, line.knob, line.ms, width=1.5)
         for method, colour in shown.colours.items():
@@ -227,7 +222,7 @@ class BenchChart:
     def _clear_items(self) -> None:
         for plot in (self.error_plot, self.time_plot):
             plot.clear()
-            plot.setTitle(None)
+            self.titles[plot].setText("")
             for axis in ("left", "bottom"):
                 plot.setLabel(axis, "")
             plot.showGrid(x=True, y=True, alpha=0.3)
