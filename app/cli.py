@@ -53,6 +53,8 @@ def parser() -> argparse.ArgumentParser:
                         "frames at the editor's view size within r_frameBudget")
     b.add_argument("--quick", action="store_true", help="fewer settings and runs, small images (under a minute)")
     b.add_argument("--out", default="bench-out", metavar="DIR")
+    b.add_argument("--in-editor", action="store_true",
+                   help="the editor's dock runs it, its view paused: the CSV and chart say so (else: from the CLI)")
     return p
 
 
@@ -120,6 +122,7 @@ def bench(args) -> int:
     from app.bench import harness, report
     from app.gl.headless import create_context, release_context
     from app.gl.workspace_renderer import RENDERERS
+    from app.views.bench_chart import save_chart
 
     ensure_qt_app(offscreen=True)  # the chart is painted by pyqtgraph
     tech = TECHNIQUES[args.technique](quick=args.quick)
@@ -131,13 +134,20 @@ def bench(args) -> int:
         print(f"bench {tech.name} on {ctx.info['GL_RENDERER']}{' (quick)' if args.quick else ''}")
         start = time.perf_counter()
         rows = harness.run(ctx, tech, quick=args.quick, progress=print)
+        for row in rows:
+            row.extra[report.MEASURED_IN] = "editor" if args.in_editor else "cli"
         out = Path(args.out)
         csv_path, png_path = out / f"{tech.name}.csv", out / f"{tech.name}.png"
         report.write_csv(csv_path, rows)
-        report.save_chart(png_path, report.read_csv(csv_path))
+        written = report.read_csv(csv_path)
+        save_chart(png_path, written)
+        charts = tech.charts(written) if tech.charts is not None else {}
+        for name, part in charts.items():
+            save_chart(out / name, part)
         if tech.extra_outputs is not None:
             tech.extra_outputs(ctx, out, args.quick, rows, print)
-        print(f"wrote {csv_path} and {png_path} in {time.perf_counter() - start:.1f} s")
+        more = "".join(f", {name}" for name in charts)
+        print(f"wrote {csv_path} and {png_path}{more} in {time.perf_counter() - start:.1f} s")
     finally:
         release_context(ctx)  # leaves none current: a caller in this process may make its own
     return 0

@@ -58,8 +58,8 @@ def test_csv_round_trip_and_curves(gl, tmp_path):
     report.write_csv(tmp_path / "grey.csv", rows)
     back = report.read_csv(tmp_path / "grey.csv")
     assert [r["knob"] for r in back] == [0.5, 0.25]
-    ms, err, knob = report.curves(back)["clear"]
-    assert list(knob) == [0.25, 0.5] and err[1] >= report.ERROR_FLOOR
+    [line] = report.lines(back)
+    assert line.method == "clear" and list(line.knob) == [0.25, 0.5] and line.error[1] >= report.ERROR_FLOOR
 
 
 def test_read_csv_refuses_other_files(tmp_path):
@@ -69,9 +69,7 @@ def test_read_csv_refuses_other_files(tmp_path):
         report.read_csv(path)
 
 
-def test_chart_right_panel_keeps_to_the_first_knob_with_one_legend_entry_per_method(qapp):
-    import pyqtgraph as pg
-
+def test_chart_right_panel_keeps_to_the_first_knob_and_the_legend_names_each_method_once():
     def row(method, knob_name, knob, scene, ms):
         return {"method": method, "knob_name": knob_name, "knob": knob, "scene": scene, "ms_median": ms,
                 "rmse": 0.01 / ms, "max_abs_error": 0.02}
@@ -79,14 +77,13 @@ def test_chart_right_panel_keeps_to_the_first_knob_with_one_legend_entry_per_met
     rows = [row(m, "lightmap_scale", k, s, k * 4 + i) for i, m in enumerate(("exact", "hard"))
             for k in (0.5, 1.0) for s in ("a", "b")]
     rows += [row("jitter", "samples", n, "a", n) for n in (4, 16)]  # another knob: left panel only
-    error_plot, time_plot = pg.PlotItem(), pg.PlotItem()
-    report.plot(error_plot, time_plot, rows)
-    assert len(error_plot.listDataItems()) == 3
-    assert len(time_plot.listDataItems()) == 4  # exact and hard, scenes a and b
-    assert [label.text for _, label in time_plot.legend.items] == ["exact", "hard"]
-    assert time_plot.legend.isVisible()
-    report.clear_chart(error_plot, time_plot)
-    assert not error_plot.listDataItems() and not time_plot.legend.isVisible()
+    shown = report.chart(rows)
+    assert sorted((line.method, line.knob_name) for line in shown.error_lines) == [
+        ("exact", "lightmap_scale"), ("hard", "lightmap_scale"), ("jitter", "samples")]  # scene a only
+    assert sorted((line.method, line.scene) for line in shown.time_lines) == [
+        ("exact", "a"), ("exact", "b"), ("hard", "a"), ("hard", "b")]
+    assert list(shown.colours) == ["exact", "hard", "jitter"] and list(shown.markers) == ["a", "b"]
+    assert not shown.exact and shown.notes == []  # no measured_in column: nothing said of where
 
 
 def test_a_method_may_draw_at_its_own_size(gl):

@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from app.bench import WORKSPACE_TECHNIQUE, TECHNIQUES, clouds, harness, report
+from app.bench import WORKSPACE_TECHNIQUE, TECHNIQUES, clouds, clouds_report, harness, report
 from app.io.cloud_textures import NoiseTextures
 from app.io.png import read_png
 from app.model import cloud_noise as cn
@@ -79,6 +79,7 @@ def test_registered_for_the_cli_and_the_workspace_dock():
     assert WORKSPACE_TECHNIQUE["clouds"] == "clouds"
     quick = clouds.technique(quick=True)
     assert quick.name == "clouds" and quick.extra_outputs is not None
+    assert quick.charts is clouds_report.chart_parts
     assert {m.name for m in quick.methods} >= {"energy", "seed", "buffer 1", "buffer 1/2", "buffer 1/3",
                                                 "buffer 1/4", "none", "all"}
 
@@ -144,9 +145,12 @@ def test_sample_count_images_and_table(measured):
 
 
 def test_report_has_every_measure_and_a_verdict_for_each_goal(measured):
-    _bench, _rows, out, lines = measured
-    for chart in ("clouds-integration.png", "clouds-buffers.png", "clouds-settings.png"):
-        assert read_png(out / chart).shape[2] == 4
+    _bench, rows, out, lines = measured
+    # each part's chart (the cli draws them: test_cli_bench_prepares_the_textures_and_writes_everything)
+    parts = clouds_report.chart_parts(report.read_csv(out / "clouds.csv"))
+    assert list(parts) == ["clouds-integration.png", "clouds-buffers.png", "clouds-settings.png"]
+    assert {r["method"] for r in parts["clouds-integration.png"]} == {"energy", "seed", "cpu energy"}
+    assert sum(len(part) for part in parts.values()) <= len(rows)
     text = (out / "clouds-report.md").read_text()
     for heading in ("## 1.", "Figure 41", "Figure 39", "## 4.", "## 5."):
         assert heading in text
@@ -165,4 +169,6 @@ def test_cli_bench_prepares_the_textures_and_writes_everything(tiny_textures, tm
     for name in ("clouds.csv", "clouds.png", "clouds-samples.md", "clouds-report.md", "clouds-buffers.png",
                  "clouds-samples-7-reprojection.png"):
         assert (tmp_path / name).is_file(), name
+    for chart in ("clouds-integration.png", "clouds-buffers.png", "clouds-settings.png"):
+        assert read_png(tmp_path / chart).shape[2] == 4
     assert "samples_per_px" in (tmp_path / "clouds.csv").read_text().splitlines()[0]

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-HEADLESS = ["app.model", "app.io", "app.reference", "app.gl", "app.console", "app.commands"]
+HEADLESS = ["app.model", "app.io", "app.reference", "app.gl", "app.console", "app.commands", "app.bench"]
 QT = ("PySide6", "pyqtgraph")
 
 

@@ -337,5 +337,6 @@ def make_technique(bench: CloudsBench) -> Technique:
         size=p.settings_size,
         quick_size=p.settings_size,
         extra_rows=bench.cpu_rows,
+        charts=clouds_report.chart_parts,
         extra_outputs=lambda ctx, out, quick_, rows, progress: clouds_report.write(bench, ctx, out, rows, progress),
     )

@@ -3,6 +3,8 @@
 - clouds-samples-<i>-<step>.png: the r_cloudDebugSamples view (texture lookups per pixel, black 0 .. white
   1000) with each optimisation added in turn, Figure 39's order (i = 0 is none);
 - clouds-samples.md: Figure 39's table, mean lookups per output pixel at each step;
+- clouds-integration.png, clouds-buffers.png, clouds-settings.png: the bench chart of each part's rows
+  (chart_parts, Technique.charts: the cli draws them);
 - clouds-report.md: the issue's five measures as tables with their verdicts (also printed): the GPU against
   the CPU reference, Figure 41, Figure 39, each optimisation's error against its time with all of them
   against none (timed again, interleaved), and the seed's integration beside the energy one.
@@ -18,7 +20,7 @@ import numpy as np
 
 from app.bench import harness
 from app.bench.clouds import ALL, ALL_BUT, BUFFERS, NONE, OPTIMISATIONS, SAVING, CloudState, slug, stages
-from app.bench.harness import CSV_COLUMNS, Row
+from app.bench.harness import Row
 from app.io.atomic import write_text
 from app.io.png import write_png
 
@@ -313,17 +315,10 @@ PARTS = {"clouds-integration.png": ("energy", "seed", "cpu energy"),
          "clouds-settings.png": ("none", *("only " + label for label, _c in OPTIMISATIONS), "all", *ALL_BUT)}
 
 
-def write_charts(rows: list[Row], plan, out: Path) -> list[Path]:
-    """The harness's chart (app.bench.report) of each part's rows; needs a QApplication, as the CSV's chart does."""
-    from app.bench import report as charts
-
-    paths = []
-    for name, methods in PARTS.items():
-        part = [{**{k: getattr(r, k) for k in CSV_COLUMNS}, **r.extra} for r in rows if r.method in methods]
-        if part:
-            charts.save_chart(out / name, part)
-            paths.append(out / name)
-    return paths
+def chart_parts(rows: list[dict]) -> dict[str, list[dict]]:
+    """Technique.charts: each part's rows (read_csv's), for a chart of its own beside clouds.png."""
+    parts = {name: [r for r in rows if r["method"] in methods] for name, methods in PARTS.items()}
+    return {name: part for name, part in parts.items() if part}
 
 
 def write(bench, ctx, out: Path, rows: list[Row], progress: Callable[[str], None]) -> None:
@@ -335,12 +330,10 @@ def write(bench, ctx, out: Path, rows: list[Row], progress: Callable[[str], None
     write_text(out / "clouds-samples.md", "\n".join([
         f"# Clouds: texture lookups per pixel, each optimisation added in turn ({w}x{h}, {plan.stage_steps} steps)",
         "", *samples_table(rows, plan), ""]))
-    charts = write_charts(rows, plan, out)
     progress(f"timing none and all interleaved ({plan.interleaved_rounds} rounds)")
     interleaved = interleave(bench, ctx, plan.interleaved_rounds) if plan.interleaved_rounds > 0 else None
     progress("reprojection through a turn")
     text, _verdicts = report(rows, plan, interleaved, ctx.info.get("GL_RENDERER", ""), turns(bench, ctx))
     write_text(out / "clouds-report.md", text)
     progress(text)
-    progress(f"wrote {len(images)} sample-count images, {', '.join(p.name for p in charts)}, clouds-samples.md and "
-             f"clouds-report.md in {out}")
+    progress(f"wrote {len(images)} sample-count images, clouds-samples.md and clouds-report.md in {out}")

@@ -44,7 +44,9 @@ class Technique:
     quick_size: tuple[int, int] = (256, 256)
     quick_scenes: Sequence[str] | None = None
     extra_rows: Callable[[bool, tuple[int, int], int, Callable[[str], None]], list] | None = None  # peers' rows
-    # more files in the bench's output folder, after the CSV: (ctx, folder, quick, rows, progress)
+    # more charts beside the technique's own: file name -> the rows (read_csv's) it charts, drawn by the cli
+    charts: Callable[[list[dict]], dict[str, list[dict]]] | None = None
+    # more files in the bench's output folder, after the CSV and charts: (ctx, folder, quick, rows, progress)
     extra_outputs: Callable[[moderngl.Context, Path, bool, list["Row"], Callable[[str], None]], None] | None = None
     # every method's frames of a scene in turn (all methods' states alive at once), so that a busy machine slows
     # the methods compared alike; else each setting is timed on its own, one after the other

@@ -1,11 +1,14 @@
-"""Bench results as CSV and as a chart: error against time, one curve per method (pyqtgraph)."""
+"""Bench results as CSV, and what their chart shows: error against time, and time against the knob, one line
+per method (and scene), in the order of its knob. app/views/bench_chart.py draws it, in a PNG and in the dock;
+everything that chart says is decided here, without Qt."""
 from __future__ import annotations
 
 import csv
 import io
+import math
 import os
 from collections import defaultdict
-from pathlib import Path
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -13,9 +16,18 @@ from app.bench.harness import CSV_COLUMNS, Row
 from app.io.atomic import write_text
 
 ERROR_FLOOR = 1e-9  # zero error still needs a place on a log axis
-LEGEND_ROWS = 12    # a legend with more entries than this lays them out in two columns
+# Every error on a 0..1 scale (each technique's value range) below this is float32 rounding, not a method's error:
+# float32 steps by 1.2e-7 just below 1, so this is about 8 of its steps. A chart whose every error is below it
+# draws no error axis (it would be flat noise) but time alone, and says why.
+EXACT_ERROR = 1e-6
 PALETTE = ("#4cc9f0", "#f72585", "#ffd166", "#06d6a0", "#b388ff", "#ff9f1c", "#8ecae6", "#ef476f",
            "#90be6d", "#f8961e", "#c77dff", "#e9ecef")
+MARKERS = ("o", "s", "t", "d", "p", "h", "star", "t1", "+", "x")  # pyqtgraph's symbols, one a scene
+# The CSV column that says where the rows were measured, and what the chart says of each value.
+MEASURED_IN = "measured_in"
+WHERE = {"cli": "from the CLI", "editor": "measured in the editor, view paused"}
+PLAIN_RANGE = (1e-4, 1e6)  # numbers written out in full within it (0.001, 20, 1500), else as a power of ten
+SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
 
 
 def write_csv(path: str | os.PathLike, rows: list[Row]) -> None:
@@ -43,31 +55,17 @@ def read_csv(path: str | os.PathLike) -> list[dict]:
     return rows
 
 
-def curves(rows: list[dict], scene: str | None = None) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """method -> (ms, RMSE, knob) for one scene (the first one if None), sorted by knob. RMSE rather than
-    the max: one silhouette pixel sets the max for every method alike."""
-    scene = scene or (rows[0]["scene"] if rows else None)
-    grouped: dict[str, list[tuple[float, float, float]]] = defaultdict(list)
-    for r in rows:
-        if r["scene"] == scene:
-            grouped[r["method"]].append((r["knob"], r["ms_median"], max(r["rmse"], ERROR_FLOOR)))
-    result = {}
-    for method, points in grouped.items():
-        knob, ms, err = np.array(sorted(points)).T
-        result[method] = (ms, err, knob)
-    return result
-
-
-def add_plots(layout, stacked: bool = False):
-    """The chart's two plots (RMSE against time, time against the knob) in a pyqtgraph GraphicsLayout, side by
-    side or stacked, on axes that print plain numbers (no SI prefix) and no label over another."""
-    from app.bench.chart_axis import ChartAxis
-
-    def axes():
-        return {side: ChartAxis(side) for side in ("left", "bottom")}
-
-    return layout.addPlot(row=0, col=0, axisItems=axes()), layout.addPlot(row=int(stacked), col=int(not stacked),
-                                                                          axisItems=axes())
+def number_text(value: float, digits: int = 3) -> str:
+    """A number as a person reads it: 20, 0.001, 1500; a power of ten only when very small or large (2·10⁻⁸,
+    10⁻⁸), to `digits` significant digits."""
+    if value == 0 or not math.isfinite(value):
+        return f"{value:g}"
+    if PLAIN_RANGE[0] <= abs(value) < PLAIN_RANGE[1]:
+        return np.format_float_positional(value, precision=digits, fractional=False, trim="-")
+    mantissa, exponent = f"{value:.{digits - 1}e}".split("e")
+    mantissa = mantissa.rstrip("0").rstrip(".")
+    power = "10" + str(int(exponent)).translate(SUPERSCRIPT)
+    return power if mantissa == "1" else f"{mantissa}·{power}"
 
 
 def tip(method: str, scene: str, knob_name: str, knob: float, ms: float, rmse: float) -> str:
@@ -75,79 +73,85 @@ def tip(method: str, scene: str, knob_name: str, knob: float, ms: float, rmse: f
     return f"{method}\n{scene}\n{knob_name} = {knob:g}\n{ms:.3g} ms/frame, RMSE {rmse:.3g}"
 
 
-def plot(error_plot, time_plot, rows: list[dict], scene: str | None = None) -> None:
-    """Fill two pyqtgraph PlotItems (from add_plots): RMSE against ms (log-log), and ms against the knob per
-    scene. Each point carries its tip() as its data."""
-    import pyqtgraph as pg
+@dataclass
+class Line:
+    """One method's points in one scene under one knob, joined in the order of the knob's value: the curve of
+    that method as its knob moves, whatever order they were run in. Each point has its tip()."""
 
-    for p in (error_plot, time_plot):
-        p.clear()
-        p.showGrid(x=True, y=True, alpha=0.3)
-        p.addLegend(offset=(10, 10), brush=(20, 22, 28, 200))
-    scene = scene or (rows[0]["scene"] if rows else None)
-    error_plot.setLogMode(x=True, y=True)
-    error_plot.setLabel("bottom", "frame time (ms)")
-    error_plot.setLabel("left", "RMSE (0..1)")
-    error_plot.setTitle(f"Speed vs accuracy — {scene}")
-    methods = sorted({r["method"] for r in rows})
+    method: str
+    scene: str
+    knob_name: str
+    knob: np.ndarray
+    ms: np.ndarray
+    error: np.ndarray  # RMSE, at least ERROR_FLOOR
+    tips: list[str]
+
+
+@dataclass
+class Chart:
+    """What the bench chart shows. `error_lines`: RMSE against time in the first scene; none when every error is
+    exact to float32. `time_lines`: time against the first row's knob in every scene (rows measured against
+    another knob would share that axis meaninglessly: they are in the error panel only). The legend names the
+    methods by colour and the scenes by marker; `notes` say what the chart leaves out and where it was measured."""
+
+    scene: str = ""
+    knob_name: str = "knob"
+    error_lines: list[Line] = field(default_factory=list)
+    time_lines: list[Line] = field(default_factory=list)
+    colours: dict[str, str] = field(default_factory=dict)  # method -> colour, in the legend's order
+    markers: dict[str, str] = field(default_factory=dict)  # scene -> marker, in the legend's order
+    exact: bool = False
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def error_title(self) -> str:
+        return f"Speed vs accuracy — {self.scene}"
+
+    @property
+    def time_title(self) -> str:
+        return f"Frame time against {self.knob_name}, per scene" if self.exact else "Time against quality, per scene"
+
+
+def lines(rows: list[dict]) -> list[Line]:
+    """The rows' lines: one per method, scene and knob, each sorted by the knob's value."""
+    grouped: dict[tuple[str, str, str], list[tuple[float, float, float]]] = defaultdict(list)
+    for r in rows:
+        grouped[(r["method"], r["scene"], r["knob_name"])].append((r["knob"], r["ms_median"], r["rmse"]))
+    result = []
+    for (method, scene, knob_name), points in grouped.items():
+        points.sort()
+        knob, ms, rmse = (np.array(column, dtype=float) for column in zip(*points))
+        result.append(Line(method, scene, knob_name, knob, ms, np.maximum(rmse, ERROR_FLOOR),
+                           [tip(method, scene, knob_name, *point) for point in points]))
+    return result
+
+
+def exact_to_float32(rows: list[dict]) -> bool:
+    """Every error of the rows (RMSE and max) below EXACT_ERROR; an error that is not a number is not exact."""
+    return bool(rows) and all(r["rmse"] < EXACT_ERROR and r["max_abs_error"] < EXACT_ERROR for r in rows)
+
+
+def where_measured(rows: list[dict]) -> str:
+    """What the rows' measured_in column says, as the chart's note ('' for a CSV from before the column)."""
+    places = list(dict.fromkeys(r.get(MEASURED_IN) or "" for r in rows))
+    return " and ".join(WHERE[p] for p in places if p in WHERE)
+
+
+def chart(rows: list[dict]) -> Chart:
+    if not rows:
+        return Chart()
+    scene, knob_name = rows[0]["scene"], rows[0]["knob_name"]
+    exact = exact_to_float32(rows)
+    error_lines = [] if exact else sorted(lines([r for r in rows if r["scene"] == scene]),
+                                          key=lambda line: line.method)
+    time_lines = lines([r for r in rows if r["knob_name"] == knob_name])
+    methods = sorted({r["method"] for r in rows})  # colours stay with a method whatever the rows drawn
     colours = {m: PALETTE[i % len(PALETTE)] for i, m in enumerate(methods)}
-    knob_names = {r["method"]: r["knob_name"] for r in rows if r["scene"] == scene}
-    for method, (ms, err, knob) in curves(rows, scene).items():
-        tips = [tip(method, scene, knob_names[method], *point) for point in zip(knob, ms, err)]
-        error_plot.plot(ms, err, pen=pg.mkPen(colours[method], width=2), symbol="o", symbolSize=6,
-                        symbolBrush=colours[method], name=method, data=tips)
-    time_plot.setLogMode(x=False, y=True)
-    knob_name = rows[0]["knob_name"] if rows else "knob"
-    time_plot.setLabel("bottom", knob_name)
-    time_plot.setLabel("left", "frame time (ms)")
-    time_plot.setTitle("Time against quality, per scene")
-    # one axis: rows measured against another knob (a method's own, or extra set-ups) would share it
-    # meaninglessly, so they appear only on the left
-    timed = [r for r in rows if r["knob_name"] == knob_name]
-    symbols = "ostd+x"
-    scenes = list(dict.fromkeys(r["scene"] for r in timed))
-    for method in methods:
-        named = False  # one legend entry per method; its scenes differ by symbol
-        for si, sc in enumerate(scenes):
-            pts = sorted((r["knob"], r["ms_median"], r["rmse"]) for r in timed
-                         if r["method"] == method and r["scene"] == sc)
-            if pts:
-                knob, ms, _rmse = np.array(pts).T
-                time_plot.plot(knob, ms, pen=pg.mkPen(colours[method], width=1.5), symbol=symbols[si % len(symbols)],
-                               symbolSize=6, symbolBrush=colours[method], name=None if named else method,
-                               data=[tip(method, sc, knob_name, *point) for point in pts])
-                named = True
-    for p in (error_plot, time_plot):
-        p.legend.setVisible(bool(p.legend.items))  # an empty legend still draws its box
-        p.legend.setColumnCount(2 if len(p.legend.items) > LEGEND_ROWS else 1)
-
-
-def clear_chart(error_plot, time_plot) -> None:
-    """Both plots empty: no curves, titles, axis labels or legend box."""
-    for p in (error_plot, time_plot):
-        p.clear()
-        p.setTitle(None)
-        for axis in ("left", "bottom"):
-            p.setLabel(axis, "")
-        if p.legend is not None:
-            p.legend.setVisible(False)
-
-
-def save_chart(path: str | os.PathLike, rows: list[dict], size: tuple[int, int] = (1400, 600)) -> None:
-    """Render the chart off screen and write it as a PNG (needs a QApplication; see cli)."""
-    import pyqtgraph as pg
-    from pyqtgraph.exporters import ImageExporter
-
-    pg.setConfigOptions(antialias=True, background="#14161c", foreground="#d0d4dc")
-    from PySide6.QtCore import QRectF
-
-    widget = pg.GraphicsLayoutWidget()
-    widget.resize(*size)
-    error_plot, time_plot = add_plots(widget.ci)
-    plot(error_plot, time_plot, rows)
-    widget.ci.setGeometry(QRectF(0, 0, *size))  # never shown on screen, so lay it out by hand
-    exporter = ImageExporter(widget.ci)
-    exporter.parameters()["width"] = size[0]
-    tmp = Path(path).with_suffix(".tmp.png")
-    exporter.export(str(tmp))
-    os.replace(tmp, path)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    markers = {s: MARKERS[i % len(MARKERS)] for i, s in enumerate(scenes)}
+    drawn = error_lines + time_lines
+    notes = [f"exact to float32 (error < {number_text(EXACT_ERROR)}): time only"] if exact else []
+    notes += [where] if (where := where_measured(rows)) else []
+    return Chart(scene, knob_name, error_lines, time_lines,
+                 {m: c for m, c in colours.items() if any(line.method == m for line in drawn)},
+                 {s: k for s, k in markers.items() if any(line.scene == s for line in drawn)}, exact, notes)

@@ -1,8 +1,9 @@
 """The "Speed vs accuracy" dock: the bench chart of the current technique, run or loaded from CSV.
 
 Before any measurement it says how to get one; a quick bench runs in its own process with a progress bar and
-can be cancelled. Hovering a point names its method, scene and knob. Nothing in it widens the window: long
-texts wrap or are cut, in full in their tooltips."""
+can be cancelled, while the editor's view draws no frame (`measuring`: the main window pauses the viewport), so
+that the editor's own frames do not slow the one measured. Hovering a point names its method, scene and knob.
+Nothing in it widens the window: long texts wrap or are cut, in full in their tooltips."""
 from __future__ import annotations
 
 import re
@@ -10,12 +11,13 @@ import sys
 from pathlib import Path
 
 import pyqtgraph as pg
-from PySide6.QtCore import QProcess, Qt
+from PySide6.QtCore import QProcess, Qt, Signal
 from PySide6.QtWidgets import (QFileDialog, QLabel, QProgressBar, QPushButton, QSizePolicy,
                                QStackedWidget, QVBoxLayout, QWidget)
 
 from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE, report
 from app.io.cache import cache_root
+from app.views.bench_chart import BenchChart
 from app.views.form_widgets import left_row
 
 # a line of the bench's output that reports one measurement (a CSV row): "... 12.34 ms  rmse ..." (or "mean"
@@ -36,11 +38,13 @@ def wrapping_label(**kwargs) -> QLabel:
 
 
 class BenchDock(QWidget):
+    measuring = Signal(bool)  # a quick bench started (True) or ended, however it ended (False)
+
     def __init__(self, parent=None) -> None:
         super().__init__(parent)
         self.technique = "snowflake"
         self.chart = pg.GraphicsLayoutWidget()
-        self.error_plot, self.time_plot = report.add_plots(self.chart.ci, stacked=True)  # the dock is tall
+        self.drawing = BenchChart(self.chart.ci, stacked=True)  # the dock is tall
         self.chart.scene().sigMouseMoved.connect(self._hover)
         self.hover_text = ""
         self.hint = wrapping_label(alignment=Qt.AlignmentFlag.AlignCenter, textFormat=Qt.TextFormat.RichText)
@@ -90,7 +94,7 @@ class BenchDock(QWidget):
                             "<p><b>Open CSV…</b> shows any bench's results.</p>")
 
     def _show_hint(self, html: str) -> None:
-        report.clear_chart(self.error_plot, self.time_plot)
+        self.drawing.clear()
         self.hint.setText(html)
         self.pages.setCurrentWidget(self.hint)
         self.set_status("")
@@ -101,7 +105,7 @@ class BenchDock(QWidget):
         except (OSError, ValueError, KeyError) as exc:
             self.set_status(f"cannot read {path.name}: {exc}")
             return
-        report.plot(self.error_plot, self.time_plot, rows)
+        self.drawing.show(rows)
         self.pages.setCurrentWidget(self.chart)
         self.set_status(f"{path.name}: {len(rows)} measurements")
 
@@ -116,13 +120,15 @@ class BenchDock(QWidget):
         self.process.setProcessChannelMode(QProcess.ProcessChannelMode.MergedChannels)
         self.process.readyReadStandardOutput.connect(self._progress)
         self.process.finished.connect(self._finished)
+        self.process.errorOccurred.connect(self._error)
         self._start_progress()
         self.set_status(f"quick bench of {self.technique}: starting…")
         self.run_button.setEnabled(False)
         self.cancel_button.setVisible(True)
+        self.measuring.emit(True)
         # -u: the child's progress lines arrive as printed, not in blocks when its stdout is a pipe
-        self.process.start(sys.executable,
-                           ["-u", "-m", "app", "bench", self.technique, "--quick", "--out", str(bench_dir())])
+        self.process.start(sys.executable, ["-u", "-m", "app", "bench", self.technique, "--quick", "--in-editor",
+                                            "--out", str(bench_dir())])
 
     def _start_progress(self) -> None:
         """Counted in measurements; as many as the last quick bench of this technique made, else a busy bar."""
@@ -155,11 +161,24 @@ class BenchDock(QWidget):
         if lines:
             self.set_status(f"{self.progress.value()} measured; " + " ".join(lines[-1].split()))
 
-    def _finished(self, code: int, _status) -> None:
+    def _error(self, error) -> None:
+        """A bench that never started gets no finished(): end it here (a crash or a kill gets both)."""
+        if error == QProcess.ProcessError.FailedToStart and self.process is not None:
+            reason = self.process.errorString()
+            self._ended()
+            self.set_status(f"quick bench of {self.running} could not start: {reason}")
+
+    def _ended(self) -> None:
+        """Whatever ended the bench: the dock ready for another, the view drawing again."""
+        self.process.deleteLater()
         self.process = None
         self.progress.setVisible(False)
         self.cancel_button.setVisible(False)
         self.run_button.setEnabled(self.technique in TECHNIQUES)
+        self.measuring.emit(False)
+
+    def _finished(self, code: int, _status) -> None:
+        self._ended()
         if self._cancelled:
             self.set_status(f"quick bench of {self.running} cancelled")
         elif code != 0:
@@ -180,7 +199,7 @@ class BenchDock(QWidget):
     def _hover(self, scene_pos) -> None:
         """A point under the mouse shows its tip (its method, scene, knob, time and error)."""
         text = ""
-        for plot in (self.error_plot, self.time_plot):
+        for plot in self.drawing.plots():
             if not plot.vb.sceneBoundingRect().contains(scene_pos):
                 continue
             for item in plot.listDataItems():

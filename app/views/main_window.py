@@ -47,6 +47,7 @@ class MainWindow(QMainWindow):
                 self.panels.addWidget(panel)
         self.console_widget = ConsoleWidget(self.editor.console, files.history_file())
         self.bench = BenchDock()
+        self.bench.measuring.connect(self.viewport.set_paused)  # its measurement has the machine to itself
         self.docks = {
             "editor": self._dock("Editor", self.panels, Qt.DockWidgetArea.LeftDockWidgetArea),
             "console": self._dock("Console", self.console_widget, Qt.DockWidgetArea.BottomDockWidgetArea),

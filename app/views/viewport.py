@@ -47,6 +47,7 @@ class Viewport(QOpenGLWidget):
         self._refining = False    # the next frame is the full-quality one after an interaction
         self.preparing = False    # the window is making what a renderer needs: draw nothing yet
         self.gl_state_errors: list[str] = []  # in GL debug mode, what frames left behind (tests fail on any)
+        self.paused = False       # a bench is measuring (set_paused): no frame asked for or drawn
 
     def initializeGL(self) -> None:
         self.ctx = moderngl.create_context()
@@ -86,7 +87,21 @@ class Viewport(QOpenGLWidget):
     def resizeGL(self, width: int, height: int) -> None:
         self.editor.workspaces.view_aspect = width / max(height, 1)  # what Frame All fits the scene to
 
+    def set_paused(self, paused: bool) -> None:
+        """Paused, the view keeps its last picture and draws nothing (the bench dock's measurement has the machine
+        to itself); resumed, it draws what changed meanwhile."""
+        self.paused = paused
+        if not paused:
+            self.update_full()
+
+    def update(self, *args) -> None:
+        """A frame, unless paused (then set_paused(False) asks for it)."""
+        if not self.paused:
+            super().update(*args)
+
     def paintGL(self) -> None:
+        if self.paused:  # Qt asks too (the window uncovered): the last frame stays
+            return
         start = time.perf_counter()
         self.interactive = start - self._last_frame < INTERACTIVE_GAP and not self._refining
         fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
