@@ -25,6 +25,7 @@ from app.model.workspace import SceneFiles
 from app.resources import SCENES
 
 DEFAULT_SCENE = SCENES / "j_concave_three_lights.json"
+START_ASPECT = 0.9  # framed for a view at least this wide per unit of height (the default window's is 0.96)
 LIGHT_TUPLES = {"position", "origin", "scale", "color"}
 LIGHT_FLOATS = {"rotation", "intensity", "radius", "cone_decay", "height"}
 LIGHT_BOOLS = {"enabled", "casts_shadows"}
@@ -157,7 +158,8 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     state.files = SceneFiles(load, save, (".json",), scene_file.FORMAT, new=clear,
                              replacing=("lighting.sample",))
-    state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene
+    state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene, framed whole
+    state.camera.cx, state.camera.cy, state.camera.height = state.framed_view(START_ASPECT)
 
     @checks.add("ambient")
     def ambient_value(r: float, g: float, b: float) -> tuple[float, float, float]:

@@ -81,16 +81,20 @@ class Lighting2DWorkspace(Workspace):
     def load_frame_commands(self, aspect: float) -> list[str]:
         return []  # a 2D scene file keeps the view it was saved with
 
-    def frame_commands(self, aspect: float) -> list[str]:
+    def framed_view(self, aspect: float) -> tuple[float, float, float] | None:
+        """(centre x, centre y, height) of the view that shows every hull and light whole; None: nothing to show."""
         scene = self.scene
         points = [hull.world() for hull in scene.hulls]
         points += [np.array(light.position) + light.radius * np.array([[-1.0, -1.0], [1.0, 1.0]])
                    for light in scene.lights]
         if not points:
-            return []
+            return None
         every = np.concatenate(points)
-        cx, cy, height = view_2d(every.min(0), every.max(0), aspect)
-        return [f"lighting.view {cx!r} {cy!r} {height!r}"]
+        return view_2d(every.min(0), every.max(0), aspect)
+
+    def frame_commands(self, aspect: float) -> list[str]:
+        view = self.framed_view(aspect)
+        return [] if view is None else ["lighting.view {!r} {!r} {!r}".format(*view)]
 
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
         """Commands that rebuild the 2D scene and its view exactly (floats as repr)."""

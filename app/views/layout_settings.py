@@ -24,13 +24,15 @@ class Layout:
         self.window = window
         self.default = window.saveState()
 
-    def restore(self) -> None:
+    def restore(self) -> bool:
+        """The window's size and its docks' places as the last run left them; False: none were kept."""
         stored = settings()
         geometry, state = stored.value("window/geometry"), stored.value("window/state")
         if geometry is not None:
             self.window.restoreGeometry(geometry)
         if state is not None:
             self.window.restoreState(state)
+        return state is not None
 
     def save(self) -> None:
         stored = settings()

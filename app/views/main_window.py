@@ -79,7 +79,7 @@ class MainWindow(QMainWindow):
         self.refresh()
         self.status_parts.sync()
         self.layout_settings = Layout(self)  # the layout built above is the default Reset Layout puts back
-        self.layout_settings.restore()
+        self._fit_on_show = not self.layout_settings.restore()
         QTimer.singleShot(0, weak_callback(self.autosave, "offer_recovery"))  # once the window is up
 
     def _tick(self) -> None:
@@ -94,6 +94,17 @@ class MainWindow(QMainWindow):
             self.statusBar().clearMessage()
         if not (self.editor.demos.playing or self.editor.console.waiting):
             self.ticker.stop()
+
+    def showEvent(self, event) -> None:
+        """A hidden window ignores resizeDocks: fit the editor dock to the workspace once the window shows, so a
+        window started on a workspace has the view every other way of showing it has."""
+        super().showEvent(event)
+        if self._fit_on_show:
+            self._fit_on_show = False
+            QTimer.singleShot(0, weak_callback(self, "_fit_current_dock"))
+
+    def _fit_current_dock(self) -> None:
+        self._fit_editor_dock(self.editor.workspace)
 
     def keyPressEvent(self, event) -> None:
         """Esc stops a demo playing (keys the viewport and the panels did not take come here)."""
