@@ -229,3 +229,24 @@ def test_a_demos_lines_due_at_once_run_in_slices(editor, tmp_path):
     while editor.demos.playing:
         editor.demos.update()
     assert not errors(editor)
+
+
+def test_a_scenes_images_are_asked_of_the_file_policy_before_they_are_opened(editor, tmp_path):
+    """Broken: the images were opened first, and the two messages told whether an outside file exists."""
+    import json
+
+    outside = tmp_path / "home"
+    outside.mkdir()
+    (outside / "real.png").write_bytes(b"\x89PNG not really")
+    said = []
+    for name in ("real.png", "missing.png"):
+        assert editor.execute(f"workspace lighting2d; scene.save {tmp_path / 'base.json'}")
+        data = json.loads((tmp_path / "base.json").read_text())
+        data["background"] = str(outside / name)
+        scripts = tmp_path / "scripts"
+        scripts.mkdir(exist_ok=True)
+        (scripts / "s.json").write_text(json.dumps(data))
+        (scripts / "s.lua").write_text("exec('scene.load s.json')\n")
+        assert not editor.execute(f"lua {scripts / 's.lua'}")
+        said.append(next(e for e in errors(editor)[::-1] if "may not read" in e).replace(name, "NAME"))
+    assert said[0] == said[1] and not internal(editor)

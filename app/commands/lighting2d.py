@@ -140,7 +140,7 @@ def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) ->
 
     def load(path: str | Path) -> str:
         try:
-            loaded = scene_file.load(path)
+            loaded = scene_file.load(path, may_read=lambda name: files.readable(console, name))
         except (Lighting2DError, OSError) as exc:
             raise CommandError(str(exc)) from None
         for _where, name in loaded.images():

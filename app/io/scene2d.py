@@ -3,10 +3,11 @@ from __future__ import annotations
 
 import json
 import os
+from typing import Callable
 
 from app.io import json_file as jf
 from app.io.atomic import write_text
-from app.io.textures2d import image
+from app.io.textures2d import BUILTIN, image
 from app.model.lighting2d import LIGHT_KINDS, SHADOW_TYPES, Hull, Light, Lighting2DError, Scene2D
 
 FORMAT = "shadelab.lighting2d"
@@ -35,15 +36,17 @@ VALIDATOR = jf.validator({**_SCENE, "lights": jf.array(_LIGHT, MAX_LIGHTS, title
                           "hulls": jf.array(_HULL, MAX_HULLS, title="hulls")})
 
 
-def load(path: str | os.PathLike) -> Scene2D:
+def load(path: str | os.PathLike, may_read: Callable[[str], None] | None = None) -> Scene2D:
     """The scene in the file, once every field has the right shape, every value the model's range and
-    every image it names can be read; otherwise Lighting2DError naming the field."""
+    every image it names can be read; otherwise Lighting2DError naming the field. `may_read(name)` is asked for
+    each image before it is opened (the file policy: it raises for a file the caller may not read, so an image
+    outside says the same whether or not it exists)."""
     data = jf.read_versioned(path, FORMAT, VERSION, Lighting2DError, VALIDATOR)
     try:
         lights = [_make(Light, item, f"lights[{i}]") for i, item in enumerate(data.get("lights", []))]
         hulls = [_make(Hull, item, f"hulls[{i}]") for i, item in enumerate(data.get("hulls", []))]
         scene = Scene2D(lights=lights, hulls=hulls, **{k: data[k] for k in _SCENE if k in data})
-        _check_images(scene)
+        _check_images(scene, may_read)
     except Lighting2DError as exc:
         raise Lighting2DError(f"{path}: {exc}") from None
     return scene
@@ -57,10 +60,12 @@ def _make(kind, item: dict, where: str):
         raise Lighting2DError(f"{where}: {exc}") from None
 
 
-def _check_images(scene: Scene2D) -> None:
+def _check_images(scene: Scene2D, may_read: Callable[[str], None] | None) -> None:
     """Every image a scene names must load now, not fail every frame later."""
     for where, name in scene.images():
         try:
+            if may_read is not None and not name.startswith(BUILTIN):
+                may_read(name)
             image(name)
         except Lighting2DError as exc:
             raise Lighting2DError(f"{where}: {exc}") from None
