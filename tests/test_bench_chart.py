@@ -152,12 +152,6 @@ def test_a_crowded_log_axis_labels_one_two_five_before_the_rest():
 
 
 def drawn_texts(plot, side: str) -> list[str]:
-    from PySide6.QtGui import QImage, QPainter
+    from tests.test_bench_dock import drawn_labels
 
-    image = QImage(8, 8, QImage.Format.Format_ARGB32)
-    painter = QPainter(image)
-    try:
-        _axis, _ticks, texts = plot.getAxis(side).generateDrawSpecs(painter)
-    finally:
-        painter.end()
-    return [text for _rect, _flags, text in texts]
+    return [text for _rect, text in drawn_labels(plot, side)]
