@@ -3,10 +3,16 @@ import os
 import subprocess
 import sys
 import time
+from pathlib import Path
+
+ROOT = Path(__file__).parent.parent
 
 
 def shadelab_exec(tmp_path, *args):
-    env = {**os.environ, "SHADELAB_CONFIG_DIR": str(tmp_path / "config")}
+    # This checkout's `app` first: the run's folder is tmp_path, where PYTHONPATH=. finds nothing, and
+    # the environment's editable install may point at another checkout.
+    path = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+    env = {**os.environ, "SHADELAB_CONFIG_DIR": str(tmp_path / "config"), "PYTHONPATH": path}
     return subprocess.run([sys.executable, "-m", "app", "exec", *args], capture_output=True, text=True,
                           timeout=120, cwd=tmp_path, env=env)
 
