@@ -66,8 +66,8 @@ from pathlib import Path
 
 from app.console import lua_process
 from app.console.console import Console
-from app.console.lua_sandbox import LUA_OOM, join_words
-from app.console.registry import CommandError
+from app.console.lua_sandbox import LUA_OOM
+from app.console.registry import CommandError, join
 from app.io.regular_file import read_regular_bytes
 
 # Console output a run may make: printed lines and command lines, each echoed into the log. Past
@@ -226,7 +226,7 @@ class LuaScripting:
             cvar.parse(text)  # validate here so the script's error carries the cvar's own message
         except (CommandError, ValueError) as exc:
             return [False, str(exc), None, 0]
-        return self._run_line(join_words([cvar.name, text]))
+        return self._run_line(join([cvar.name, text]))
 
     def _print(self, text: str) -> list:
         refused = self._spend_output(len(text.encode("utf-8", "surrogatepass")), "printed line")

@@ -48,7 +48,6 @@ Messages (JSON arrays; `app.console.lua_process` frames them). From the parent:
 from __future__ import annotations
 
 import os
-import shlex
 import signal
 import sys
 import threading
@@ -59,6 +58,7 @@ from lupa import LuaError, LuaRuntime
 
 from app.console.lua_patterns import PATTERNS, WORK_LIMIT
 from app.console.lua_process import Channel
+from app.console.registry import join
 
 HOOK_PERIOD = 1000  # instructions between budget checks: finer costs speed, coarser costs accuracy
 # Python work is charged in instructions too, so a runaway loop of console calls also stops: at the
@@ -401,16 +401,6 @@ def _text(value: Any) -> str:
     raise TypeError(f"cannot pass a {type(value).__name__}")
 
 
-def _quote(word: str) -> str:
-    """shlex.quote, also quoting '//': outside quotes the console reads it as a comment."""
-    quoted = shlex.quote(word)
-    return f"'{word}'" if quoted == word and "//" in word else quoted
-
-
-def join_words(words: list[str]) -> str:
-    return " ".join(map(_quote, words))
-
-
 def _decode(value: bytes) -> str:
     try:
         return value.decode("utf-8")
@@ -524,7 +514,7 @@ class Sandbox:
     def _command(self, name: bytes, *args: Any) -> tuple:
         command = _decode(name)
         try:
-            line, error = join_words([command, *map(_text, args)]), None
+            line, error = join([command, *map(_text, args)]), None
         except (TypeError, ValueError) as exc:
             line, error = None, str(exc)
         return self._console_call("command", command, line, error)
