@@ -5,9 +5,9 @@ wins over the global one. Key names are the Quake console's, so configs read the
 """
 from __future__ import annotations
 
-import shlex
 import string
 
+from app.console.quoting import quote
 from app.console.registry import check_text
 
 NAMED = ("TAB", "ENTER", "ESCAPE", "SPACE", "BACKSPACE", "UPARROW", "DOWNARROW", "LEFTARROW",
@@ -69,4 +69,4 @@ class Binds:
 
     def lines(self) -> list[str]:
         """`bind` commands that recreate the table, sorted (for bindlist and writeconfig)."""
-        return [f"bind {f'{s}:' if s else ''}{k} {shlex.quote(c)}" for (s, k), c in sorted(self.table.items())]
+        return [f"bind {f'{s}:' if s else ''}{k} {quote(c)}" for (s, k), c in sorted(self.table.items())]

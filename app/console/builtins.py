@@ -1,12 +1,11 @@
 """The console's own commands: the Quake set (cvars, aliases, binds, configs, log) and Lua."""
 from __future__ import annotations
 
-import shlex
-
 from app.console import files
 from app.console.binds import KEYS, Binds
 from app.console.console import Console, Origin
 from app.console.lua import LuaScripting
+from app.console.quoting import join, quote
 from app.console.registry import CommandError, Cvar, Reported
 from app.console.text import count
 from app.io.atomic import write_text
@@ -31,7 +30,7 @@ def config_lines(console: Console, binds: Binds) -> list[str]:
     reg = console.registry
     lines = [c.assignment() for _name, c in sorted(reg.cvars.items()) if c.archive]
     lines += ["unbindall", *binds.lines()]  # the saved binds are the whole set: a removed default stays removed
-    lines += [f"alias {name} {shlex.quote(text)}" for name, text in sorted(reg.aliases.items())]
+    lines += [f"alias {name} {quote(text)}" for name, text in sorted(reg.aliases.items())]
     return lines
 
 
@@ -154,7 +153,7 @@ def register(console: Console, binds: Binds) -> LuaScripting:
             bounds += f", one of {'|'.join(map(str, c.choices))}" if c.choices else ""
             console.print(f"{name} ({c.type.__name__}{bounds}, now {c.text()}, default {c.default}): {c.help}")
         elif name in reg.aliases:
-            console.print(f"alias {name} {shlex.quote(reg.aliases[name])}")
+            console.print(f"alias {name} {quote(reg.aliases[name])}")
         else:
             raise CommandError(f"no command, cvar or alias {name!r}")
 
@@ -243,4 +242,4 @@ def _joined(words: list[str]) -> str | None:
     """`bind w snow.step 0.25` and `bind w "snow.step 0.25"` mean the same, as in Quake."""
     if not words:
         return None
-    return words[0] if len(words) == 1 else shlex.join(words)
+    return words[0] if len(words) == 1 else join(words)

@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 import re
-import shlex
 import traceback
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from app.console.quoting import join
 from app.console.registry import CommandError, Registry, Reported, check_text
 
 MAX_LOG = 10_000  # lines kept; the oldest go first...
@@ -324,7 +324,7 @@ class Console:
             self._recorded_args = outer
         if recorded is None:
             return False
-        text = shlex.join(words)
+        text = join(words)
         for listener in self.executed_listeners:
             listener(text)
         if recorded:

@@ -88,7 +88,6 @@ from __future__ import annotations
 
 import os
 import re
-import shlex
 import time
 from pathlib import Path
 from typing import Any, Callable
@@ -96,6 +95,7 @@ from typing import Any, Callable
 from lupa import LuaError, LuaRuntime
 
 from app.console.console import Console
+from app.console.quoting import join
 from app.console.lua_patterns import PATTERNS, WORK_LIMIT
 from app.console.registry import CommandError
 from app.io.regular_file import read_regular_bytes
@@ -443,16 +443,6 @@ def _text(value: Any) -> str:
     raise TypeError(f"cannot pass a {type(value).__name__}")
 
 
-def _quote(word: str) -> str:
-    """shlex.quote, also quoting '//': outside quotes the console reads it as a comment."""
-    quoted = shlex.quote(word)
-    return f"'{word}'" if quoted == word and "//" in word else quoted
-
-
-def _join(words: list[str]) -> str:
-    return " ".join(map(_quote, words))
-
-
 def _decode(value: bytes) -> str:
     try:
         return value.decode("utf-8")
@@ -626,7 +616,7 @@ class LuaScripting:
         command = _decode(name)
         if command not in self.console.registry.names(qualified=True):
             return False, f"unknown command {command!r}".encode()
-        return self._run_line(_join([command, *map(_text, args)]))
+        return self._run_line(join([command, *map(_text, args)]))
 
     def _exec(self, line: bytes) -> tuple:
         return self._run_line(_decode(line))
@@ -644,7 +634,7 @@ class LuaScripting:
             cvar.parse(text)  # validate here so the script's error carries the cvar's own message
         except (CommandError, ValueError) as exc:
             return False, str(exc).encode()
-        return self._run_line(_join([cvar.name, text]))
+        return self._run_line(join([cvar.name, text]))
 
     def _print(self, text: bytes) -> tuple:
         refused = self._spend_output(len(text), "printed line")

@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import math
 import re
-import shlex
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from app.console.quoting import quote
 from app.console.text import number
 
 
@@ -168,7 +168,7 @@ class Cvar:
 
     def assignment(self) -> str:
         """The command that gives it this value again (configs, a demo's opening lines)."""
-        return f"{'seta' if self.archive else 'set'} {self.name} {shlex.quote(self.serialise())}"
+        return f"{'seta' if self.archive else 'set'} {self.name} {quote(self.serialise())}"
 
     def serialise(self) -> str:
         """For files, demos and digests: floats exact (repr round-trips)."""
