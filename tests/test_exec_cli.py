@@ -3,10 +3,15 @@ import os
 import subprocess
 import sys
 import time
+from pathlib import Path
+
+import app
+
+ROOT = str(Path(app.__file__).parent.parent)  # the `app` under test, not an installed one, whatever the cwd
 
 
 def shadelab_exec(tmp_path, *args):
-    env = {**os.environ, "SHADELAB_CONFIG_DIR": str(tmp_path / "config")}
+    env = {**os.environ, "SHADELAB_CONFIG_DIR": str(tmp_path / "config"), "PYTHONPATH": ROOT}
     return subprocess.run([sys.executable, "-m", "app", "exec", *args], capture_output=True, text=True,
                           timeout=120, cwd=tmp_path, env=env)
 
