@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import hashlib
 import math
-import shlex
 
 from app.commands.documents import Documents
 from app.console import files
 from app.console.console import Console
+from app.console.quoting import quote
 from app.console.registry import CommandError, Cvar
 from app.model.workspace import Workspace, Workspaces
 from app.model.workspaces import names
@@ -70,7 +70,7 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
     def scene_load(path: str) -> None:
         load = scene_files().load
         readable = str(files.readable(console, path))
-        documents.may_replace(workspaces.current, f"scene.load {shlex.quote(path)}")
+        documents.may_replace(workspaces.current, f"scene.load {quote(path)}")
         documents.named(workspaces.current, load(readable))
         documents.frame_loaded(workspaces.current)
 
@@ -88,14 +88,15 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
                  "and a JSON file's format), and switch to it",
                  completer=lambda p: files.complete(p, documents.suffixes()))
     def open_(path: str) -> None:
-        state, read = load_in_its_workspace(path, f"open {shlex.quote(path)}")
+        state, read = load_in_its_workspace(path, f"open {quote(path)}")
         documents.named(state, read)
         documents.frame_loaded(state)
 
     @reg.command("recover", "autosave [original]", "Open an autosaved scene in its workspace as unsaved changes "
-                 "to the file `original` (untitled without it)")
+                 "to the file `original` (untitled without it); its first save names its file (Save As offers "
+                 "`original`): a plain scene.save does not write there")
     def recover(autosave: str, original: str | None = None) -> None:
-        state, _read = load_in_its_workspace(autosave, f"recover {shlex.quote(autosave)}")
+        state, _read = load_in_its_workspace(autosave, f"recover {quote(autosave)}")
         documents.named(state, original, recovered=True)
 
     @reg.command("scene.new", "", "Put an empty (or the default) scene in the current workspace, untitled")
@@ -113,6 +114,9 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
         save = scene_files().save
         path = path or documents.save_path(workspaces.current)
         if path is None:
+            if documents.recovered(workspaces.current):
+                raise CommandError("the scene was recovered from an autosave: give the file to save it to (its first "
+                                   "save names its file; File > Save asks, offering the file it was edited from)")
             raise CommandError("the scene is untitled or a shipped sample: give the file to save it to")
         target = files.writable(console, path)
         try:
