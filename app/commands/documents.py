@@ -35,8 +35,8 @@ class Documents:
     def __init__(self, console: Console, workspaces: Workspaces) -> None:
         self.console, self.workspaces = console, workspaces
         self._documents = {state.name: Document() for state in workspaces}
-        self._autosaved: dict[str, tuple[str, Path, str]] = {}  # workspace -> its autosave: document digest, file,
-        # the file's SHA-256
+        # workspace -> its autosave: the document digest, the file and the file's SHA-256
+        self._autosaved: dict[str, tuple[str, Path, str]] = {}
         # (workspace, the line that would drop its changes) -> go on; the window's save/discard/cancel dialog
         self.confirm: Callable[[Workspace, str], bool] | None = None
         self.path_listeners: list[Callable[[str], None]] = []  # every file a scene is opened from or saved to
