@@ -99,7 +99,8 @@ def _write_private(path: Path, text: str) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def _signature(key: bytes, scenes: list[dict]) -> str:
+def signature(key: bytes, scenes: list[dict]) -> str:
+    """The HMAC-SHA256 a manifest listing `scenes` (as JSON objects) is signed with."""
     message = json.dumps({"format": FORMAT, "version": VERSION, "scenes": scenes}, sort_keys=True,
                          separators=(",", ":"))
     return hmac.new(key, message.encode("utf-8"), hashlib.sha256).hexdigest()
@@ -108,7 +109,7 @@ def _signature(key: bytes, scenes: list[dict]) -> str:
 def write(folder: Path, scenes: list[Autosaved], key: bytes) -> None:
     items = [{"workspace": s.workspace, "file": s.file.name, "original": s.original, "sha256": s.sha256}
              for s in scenes]
-    data = {"format": FORMAT, "version": VERSION, "scenes": items, "signature": _signature(key, items)}
+    data = {"format": FORMAT, "version": VERSION, "scenes": items, "signature": signature(key, items)}
     write_text(folder / MANIFEST, json.dumps(data, indent=2) + "\n")
 
 
@@ -120,7 +121,7 @@ def read(folder: Path, key: bytes) -> list[Autosaved]:
     if not _no_link(manifest):
         return []
     data = jf.read_versioned(manifest, FORMAT, VERSION, AutosaveError, VALIDATOR)
-    if not hmac.compare_digest(data["signature"], _signature(key, data["scenes"])):
+    if not hmac.compare_digest(data["signature"], signature(key, data["scenes"])):
         raise AutosaveError(f"{manifest} is not signed by this editor's key")
     scenes = []
     for item in data["scenes"]:
