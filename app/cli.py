@@ -3,16 +3,21 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 import time
 from pathlib import Path
-from shlex import quote as shlex_quote
+
+from app.console.quoting import quote
 
 VERBS = {  # the headless verbs and their one-line help (shadelab --help lists them under the editor's options)
     "render": "draw one frame of a workspace headless (EGL) into a PNG",
     "bench": "measure speed against accuracy; write DIR/<technique>.csv and .png",
     "exec": "run .cfg/.lua/.demo files and -c commands headless (shadelab exec -h)",
 }
+# Control characters but tab and newline: C0, DEL and C1. A script's print or a file's name with ESC in it would
+# otherwise drive the terminal that shows the log (retitle it, move the cursor, rewrite what was printed).
+_TERMINAL_CONTROLS = re.compile(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]")
 MAX_SETTLING_FRAMES = 64  # `render` draws a still scene until its renderer's temporal histories are full
 EXEC_USAGE = """usage: shadelab exec [FILE | -c COMMAND]...
 
@@ -75,6 +80,13 @@ def terminal_progress(stream, width: int = 30):
     return report
 
 
+def print_log_line(line) -> None:
+    """A console log line on stdout, or stderr for an error, with its control characters shown as escapes
+    (\\x1b): the log is someone else's text. Flushed, so it keeps its place among the streams' lines."""
+    text = _TERMINAL_CONTROLS.sub(lambda m: f"\\x{ord(m.group()):02x}", line.text)
+    print(text, file=sys.stderr if line.level == "error" else sys.stdout, flush=True)
+
+
 def render(args) -> int:
     from app.console.files import check_folder
     from app.console.registry import CommandError
@@ -89,11 +101,10 @@ def render(args) -> int:
         print(f"shadelab render: {exc}", file=sys.stderr)
         return 1
     editor = Editor()
-    editor.console.log_listeners.append(
-        lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout))
+    editor.console.log_listeners.append(print_log_line)
     commands = [f"workspace {args.workspace}"]
     if args.scene:
-        commands.append(f"scene.load {shlex_quote(args.scene)}")
+        commands.append(f"scene.load {quote(args.scene)}")
     commands += args.cmd
     failed = [c for c in commands if not editor.execute(c)]
     if failed:
@@ -197,8 +208,7 @@ def run_exec(argv: list[str]) -> int:
     clock = MonotonicClock()
     editor = Editor(clock=clock)
     errors = []
-    editor.console.log_listeners.append(
-        lambda line: print(line.text, file=sys.stderr if line.level == "error" else sys.stdout, flush=True))
+    editor.console.log_listeners.append(print_log_line)
     editor.console.log_listeners.append(lambda line: line.level == "error" and errors.append(line))
     quit_requested = []
     editor.console.quit_listeners.append(lambda: quit_requested.append(True))
@@ -216,7 +226,7 @@ def _exec_items(editor, clock, items: list[tuple[str, str]], quit_requested: lis
         if kind == "cmd":
             editor.execute(value)
         elif Path(value).suffix in runners:
-            editor.execute(f"{runners[Path(value).suffix]} {shlex_quote(value)}")
+            editor.execute(f"{runners[Path(value).suffix]} {quote(value)}")
         else:
             editor.console.error(f"exec: {value}: not a .cfg, .lua or .demo file")
         while editor.demos.playing or editor.console.waiting:  # finish demos and waits before the next item

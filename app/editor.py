@@ -13,7 +13,8 @@ from app.console import builtins, files
 from app.console.binds import Binds
 from app.console.console import Console
 from app.console.demo import Clock, MonotonicClock
-from app.console.demos import Demos
+from app.console.demos import Demos, snapshot_path
+from app.console.quoting import quote
 from app.console.registry import SCRIPTS
 from app.model.workspace import Workspace, Workspaces
 from app.model.workspaces import DEFAULT_WORKSPACE, WORKSPACES
@@ -37,6 +38,7 @@ class Editor:
             COMMANDS[state.name].register(self.console, state, checks)
             checks.reshaped_by(state.name, *core.REPLACING)  # a demo's checks cannot know what a file holds
         self.documents.track()
+        self.demos.snapshot_suffixes = self.documents.suffixes()
         if configs:
             self.run_start_configs()
         self.documents.forget_changes()  # the scenes an editor starts on are no one's unsaved work
@@ -90,6 +92,6 @@ class Editor:
 
     @staticmethod
     def _snapshot(state: Workspace, demo_path: Path, suffix: str | None = None) -> str:
-        path = demo_path.with_suffix(".start" + (suffix or state.files.suffixes[0]))
+        path = snapshot_path(demo_path, suffix or state.files.suffixes[0])
         state.files.save(str(path))
-        return str(path.resolve())
+        return quote(str(path.resolve()))

@@ -36,7 +36,7 @@ def tiny_textures(monkeypatch):
     noise = tiny_noise()
     prepared = []
 
-    def provide(progress=None, cache_dir=None):
+    def provide(progress=None, cache_dir=None, warn=None):
         prepared.append(progress)
         return noise
 
@@ -60,7 +60,7 @@ def measured(gl, qapp, tmp_path_factory):
     import app.io.cloud_textures
 
     noise = tiny_noise()
-    mp.setattr(app.io.cloud_textures, "noise_textures", lambda progress=None, cache_dir=None: noise)
+    mp.setattr(app.io.cloud_textures, "noise_textures", lambda progress=None, cache_dir=None, warn=None: noise)
     try:
         bench = tiny_bench()
         tech = clouds.make_technique(bench)

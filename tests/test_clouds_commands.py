@@ -10,6 +10,7 @@ from PIL import Image
 
 from app.editor import Editor
 from app.model.clouds import PARAMS, CloudParams
+from app.model.clouds_workspace import MAX_TIME
 
 
 @pytest.fixture
@@ -177,3 +178,13 @@ def test_the_scene_file_is_json_with_every_parameter(editor, tmp_path):
     assert editor.execute(f"scene.save {path}")
     data = json.loads(path.read_text())
     assert data["format"] == "shadelab.clouds" and set(data["params"]) == {p.name for p in PARAMS}
+
+
+def test_the_clock_left_running_stops_at_the_ends_of_its_range_where_its_line_replays(editor):
+    assert editor.execute("clouds.set time_scale -25")
+    state(editor).advance(1e308)  # a day and more of blowing wind
+    assert (state(editor).clock, state(editor).wind_time) == (MAX_TIME, -MAX_TIME)
+    line = state(editor).opening_commands(lambda: "unused")[-1]
+    assert line == f"clouds.time {MAX_TIME!r} {-MAX_TIME!r}"
+    other = Editor()
+    assert other.execute("workspace clouds") and other.execute(line)  # what is recorded is what the command takes

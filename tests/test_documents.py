@@ -1,12 +1,15 @@
 """Documents without a window: `open` picks the workspace a file belongs to, each workspace knows its file and
 whether its scene changed since (undo back to the saved state clears it), replacing a scene asks the user's
 own lines only, and autosaves list what a crashed session can give back."""
+import json
 import os
 
 import pytest
 
 from app.console.demo import VirtualClock
 from app.editor import Editor
+from app.io import autosave
+from app.io.autosave import file_digest
 from app.resources import SCENES
 
 
@@ -185,7 +188,8 @@ def test_an_edit_undo_takes_back_never_asks_and_keeps_the_file(editor, tmp_path,
     assert editor.execute("redo") and current(editor) == (file, True)  # the reset was one step
 
 
-def test_autosave_keeps_changed_scenes_and_recoverable_lists_those_newer_than_their_files(editor, tmp_path):
+def test_autosave_keeps_changed_scenes_and_recoverable_lists_those_newer_than_their_files(editor, tmp_path,
+                                                                                         user_config_dir):
     folder = tmp_path / "session"
     assert editor.execute("scene.save flakes.json") and editor.execute("snow.add 0.2 0.2")
     assert editor.execute("workspace lights3d") and editor.execute("light3d.add point")
@@ -205,9 +209,12 @@ def test_autosave_keeps_changed_scenes_and_recoverable_lists_those_newer_than_th
     assert editor.execute("undo") and editor.execute("workspace snowflake") and editor.execute("undo")
     assert editor.documents.autosave(folder) == 0  # nothing unsaved: the old autosaves go
     assert sorted(p.name for p in folder.iterdir()) == ["autosave.json"]
-    (folder / "autosave.json").write_text('{"format": "shadelab.autosave", "version": 1, "scenes": '
-                                          '[{"workspace": "snowflake", "file": "../flakes.json"}]}')
-    assert fresh.documents.recoverable(folder) == []  # a manifest naming a file outside its folder
+    scenes = [{"workspace": "snowflake", "file": "../flakes.json", "sha256": file_digest(tmp_path / "flakes.json")}]
+    key = autosave.signing_key(user_config_dir / autosave.KEY_FILE)
+    (folder / "autosave.json").write_text(json.dumps({"format": autosave.FORMAT, "version": autosave.VERSION,
+                                                      "scenes": scenes, "signature": autosave.signature(key, scenes)}))
+    assert fresh.documents.recoverable(folder) == []  # signed, and still: a manifest naming a file outside its folder
+    assert "'../flakes.json' is not a file name" in fresh.console.log[-1].text
 
 
 def test_a_demo_that_opens_a_bigger_scene_is_not_refused(editor, tmp_path):

@@ -5,14 +5,13 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).parent.parent
+import app
+
+ROOT = str(Path(app.__file__).parent.parent)  # the `app` under test, not an installed one, whatever the cwd
 
 
 def shadelab_exec(tmp_path, *args):
-    # This checkout's `app` first: the run's folder is tmp_path, where PYTHONPATH=. finds nothing, and
-    # the environment's editable install may point at another checkout.
-    path = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
-    env = {**os.environ, "SHADELAB_CONFIG_DIR": str(tmp_path / "config"), "PYTHONPATH": path}
+    env = {**os.environ, "SHADELAB_CONFIG_DIR": str(tmp_path / "config"), "PYTHONPATH": ROOT}
     return subprocess.run([sys.executable, "-m", "app", "exec", *args], capture_output=True, text=True,
                           timeout=120, cwd=tmp_path, env=env)
 

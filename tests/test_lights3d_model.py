@@ -14,7 +14,10 @@ from app.model.lights3d import Light3D, Lights3DCamera, Lights3DError, Object3D,
 @pytest.mark.parametrize("kwargs, needle", [
     (dict(kind="cone"), "object kind must be one of box, sphere, torus, lprism, plane, got 'cone'"),
     (dict(kind="box", size=(1, 2)), r"a box's size \(sx, sy, sz\) must be 3 numbers, got 2"),
-    (dict(kind="box", size=(1, -2, 3)), "box sy must be > 0"),
+    (dict(kind="box", size=(1, -2, 3)), "box sy must be within 0.01..10000, got -2"),
+    (dict(kind="box", size=(1e-200, 1, 1)), "box sx must be within 0.01..10000, got 1e-200"),  # its normals: NaN
+    (dict(kind="torus", size=(1, 0.995, 16, 8)), "torus minor radius must be below its major radius by at least 0.01"),
+    (dict(kind="lprism", size=(10, 20, 9.999, 10)), "lprism thickness must be below its sx and sy by at least 0.01"),
     (dict(kind="box", size=(1, math.inf, 3)), "must be finite"),
     (dict(kind="box", size="abc"), "must be 3 numbers"),
     (dict(kind="box", size="123"), "must be 3 numbers, got '123'"),

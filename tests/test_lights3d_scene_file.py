@@ -37,10 +37,11 @@ OBJECTS = st.one_of(
               st.tuples(UNIT, UNIT, UNIT)),
     st.builds(Object3D, st.just("sphere"), st.tuples(st.floats(0.01, 1e4), st.integers(3, 40)),
               st.tuples(COORD, COORD, COORD)),
+    # from 2 up, a torus's minor radius and hole, and an L's arms, keep to the size floor (0.01) at any ratio
     st.builds(lambda major, ratio, n, m: Object3D("torus", (major, major * ratio, n, m)),
-              st.floats(0.1, 1e4), st.floats(0.01, 0.99), st.integers(3, 40), st.integers(3, 40)),
+              st.floats(2.0, 1e4), st.floats(0.01, 0.99), st.integers(3, 40), st.integers(3, 40)),
     st.builds(lambda sx, sy, sz, r: Object3D("lprism", (sx, sy, sz, r * min(sx, sy))),
-              *[st.floats(0.1, 1e4)] * 3, st.floats(0.01, 0.99)),
+              *[st.floats(2.0, 1e4)] * 3, st.floats(0.01, 0.99)),
     st.builds(Object3D, st.just("plane"), st.tuples(st.floats(0.01, 1e4))),
 )
 LIGHTS = st.builds(Light3D, st.sampled_from(lm.LIGHT_KINDS), st.tuples(COORD, COORD, COORD),

@@ -182,3 +182,19 @@ def test_without_a_shape_any_shape_is_accepted(tmp_path):
 def test_names_stay_inside_the_cache_folder(tmp_path, name):
     with pytest.raises(ValueError):
         cache_path(name, tmp_path, 1)
+
+
+@pytest.mark.parametrize("values, reason", [
+    (np.nan, "64 values are NaN or infinite"),
+    (np.inf, "64 values are NaN or infinite"),
+    (2.0, "values 2..2, expected within 0..1"),
+])
+def test_values_not_finite_or_out_of_range_are_rebuilt_with_a_message(tmp_path, values, reason):
+    """The digest only shows the file is whole: anyone who can write the cache can write a matching one."""
+    path = cache_path("shape", tmp_path, 1)
+    path.write_bytes(noise_cache.encode(np.full(SHAPE, values, dtype=np.float32)))  # a good digest of bad values
+    said = []
+    got = load(tmp_path, Builder(1 / 64), within=(0.0, 1.0), warn=said.append)
+    assert np.isfinite(got).all() and got.max() <= 1.0
+    assert said == [f"rebuilding the noise cache {path}: {reason}"]
+    assert np.array_equal(noise_cache.decode(path.read_bytes(), SHAPE, np.dtype(np.float32), (0.0, 1.0)), got)

@@ -179,7 +179,7 @@ def test_writeconfig_then_a_fresh_start_gives_back_exactly_that_set_and_runs_not
 
 
 def quote_word(word: str) -> str:
-    from app.console.registry import quote
+    from app.console.quoting import quote
     return quote(word)
 
 

@@ -14,12 +14,16 @@ import numpy as np
 
 from app.bench.harness import CSV_COLUMNS, Row
 from app.io.atomic import write_text
+from app.io.regular_file import read_regular_bytes
 
 ERROR_FLOOR = 1e-9  # zero error still needs a place on a log axis
 # Every error on a 0..1 scale (each technique's value range) below this is float32 rounding, not a method's error:
 # float32 steps by 1.2e-7 just below 1, so this is about 8 of its steps. A chart whose every error is below it
 # draws no error axis (it would be flat noise) but time alone, and says why.
 EXACT_ERROR = 1e-6
+MAX_CSV_BYTES = 16 << 20  # a full bench writes a few hundred rows: some 100 KiB
+_NUMBERS = ("knob", "ms_median", "gpu_ms_median", "rmse", "max_abs_error")
+_FINITE = ("knob", "ms_median")
 PALETTE = ("#4cc9f0", "#f72585", "#ffd166", "#06d6a0", "#b388ff", "#ff9f1c", "#8ecae6", "#ef476f",
            "#90be6d", "#f8961e", "#c77dff", "#e9ecef")
 MARKERS = ("o", "s", "t", "d", "p", "h", "star", "t1", "+", "x")  # pyqtgraph's symbols, one a scene
@@ -41,17 +45,24 @@ def write_csv(path: str | os.PathLike, rows: list[Row]) -> None:
 
 
 def read_csv(path: str | os.PathLike) -> list[dict]:
-    """Rows with numbers parsed; refuses a file that lacks the contract's columns."""
-    with open(path, newline="", encoding="utf-8") as f:
-        reader = csv.DictReader(f)
-        missing = set(CSV_COLUMNS) - set(reader.fieldnames or ())
-        if missing:
-            raise ValueError(f"{path} is not a bench CSV (missing {', '.join(sorted(missing))})")
-        rows = []
+    """Rows with numbers parsed. A bench CSV, the editor's own in its cache included, is input: a file that is
+    not a regular one (a FIFO would wait for ever), is over MAX_CSV_BYTES, lacks the contract's columns or has a
+    row cut short or holding no number where one goes is refused with a ValueError (an OSError for the file
+    itself) that says where."""
+    try:
+        text = read_regular_bytes(path, MAX_CSV_BYTES).decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path} is not UTF-8 text (byte {exc.start})") from None
+    reader = csv.DictReader(io.StringIO(text, newline=""))
+    missing = set(CSV_COLUMNS) - set(reader.fieldnames or ())
+    if missing:
+        raise ValueError(f"{path} is not a bench CSV (missing {', '.join(sorted(missing))})")
+    rows = []
+    try:
         for r in reader:
-            for key in ("knob", "ms_median", "gpu_ms_median", "rmse", "max_abs_error"):
-                r[key] = float(r[key])
-            rows.append(r)
+            rows.append(_row(r))
+    except (csv.Error, ValueError) as exc:  # csv.Error: a field over csv's size limit, a NUL
+        raise ValueError(f"{path}:{reader.line_num}: {exc}") from None
     return rows
 
 
@@ -66,6 +77,22 @@ def number_text(value: float, digits: int = 3) -> str:
     mantissa = mantissa.rstrip("0").rstrip(".")
     power = "10" + str(int(exponent)).translate(SUPERSCRIPT)
     return power if mantissa == "1" else f"{mantissa}·{power}"
+
+
+def _row(r: dict) -> dict:
+    """A CSV row with its numbers parsed: every column of the contract there, finite where a curve needs it (a
+    time, a knob), and NaN allowed where a method measured nothing (a CPU method's GPU time)."""
+    short = [k for k in CSV_COLUMNS if r.get(k) is None]
+    if short:
+        raise ValueError(f"the row is cut short (no {', '.join(short)})")
+    for key in _NUMBERS:
+        try:
+            r[key] = float(r[key])
+        except ValueError:
+            raise ValueError(f"{key} is not a number: {r[key][:40]!r}") from None
+        if key in _FINITE and not math.isfinite(r[key]):
+            raise ValueError(f"{key} must be a finite number, got {r[key]}")
+    return r
 
 
 def tip(method: str, scene: str, knob_name: str, knob: float, ms: float, rmse: float) -> str:

@@ -3,11 +3,11 @@ cvars that switch the renderer's optimisations. Names are a contract (docs/cloud
 from __future__ import annotations
 
 import math
-import shlex
 
 from app.console import files
 from app.console.console import Console
 from app.console.demo import ArgChecks
+from app.console.quoting import quote
 from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import number
 from app.io import clouds_scene
@@ -16,7 +16,7 @@ from app.io.weather_image import WeatherError, load_weather
 from app.model.cloud_weather import resample, weather_map
 from app.model.clouds import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
                               sun_at_hour)
-from app.model.clouds_workspace import WEATHER_SIZE, CloudsWorkspace
+from app.model.clouds_workspace import MAX_TIME, WEATHER_SIZE, CloudsWorkspace, check_times
 from app.model.workspace import SceneFiles
 
 # The cvars of the optimisations, each switching one off (docs/clouds.md, "Optimisations").
@@ -189,7 +189,7 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
         except WeatherError as exc:
             raise CommandError(str(exc)) from None
         history.checkpoint("Load Weather")
-        state.new_weather(resample(weather, WEATHER_SIZE), f"load {shlex.quote(path)}")
+        state.new_weather(resample(weather, WEATHER_SIZE), f"load {quote(path)}")
         console.print(f"weather from {path}, blending in over {number(state.params.weather_blend)} s")
 
     @reg.command("weather.blend", "[seconds:float]", "Show or set how long a new weather takes to blend in",
@@ -202,20 +202,23 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
 
     @checks.add("clouds.time")
     def times(seconds: float | None = None, wind: float | None = None) -> None:
-        _finite("the times", *(v for v in (seconds, wind) if v is not None))
-        if seconds is not None and seconds < 0:
-            raise CommandError(f"the clock must not be negative, got {seconds:g}")
+        if seconds is None:
+            return
+        try:  # a wind time not given is the clock times time_scale, which the demo may set before: the command checks
+            check_times(seconds, 0.0 if wind is None else wind)
+        except ValueError as exc:
+            raise CommandError(str(exc)) from None
 
     @reg.command("clouds.time", "[seconds:float] [wind:float]", "Show or set the clock (the weather blend runs "
-                 "on it) and the wind's time (default: the clock times time_scale)", allow=SCRIPTS)
+                 f"on it, 0..{MAX_TIME:g} s) and the wind's time (default: the clock times time_scale; within "
+                 f"-{MAX_TIME:g}..{MAX_TIME:g} s)", allow=SCRIPTS)
     def clouds_time(seconds: float | None = None, wind: float | None = None) -> None:
         times(seconds, wind)
         if seconds is None:
             console.print(f"clock {number(state.clock)} s, wind time {number(state.wind_time)} s, "
                           f"weather blend {state.blend():.0%}")
             return
-        state.clock = seconds
-        state.wind_time = seconds * state.params.time_scale if wind is None else wind
+        state.set_times(seconds, seconds * state.params.time_scale if wind is None else wind)
 
 
 def render_settings(console: Console, state: CloudsWorkspace) -> CloudRenderSettings:

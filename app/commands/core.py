@@ -9,7 +9,8 @@ import math
 from app.commands.documents import Documents
 from app.console import files
 from app.console.console import Console
-from app.console.registry import SCRIPTS, CommandError, Cvar, quote
+from app.console.quoting import quote
+from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.model.workspace import Workspace, Workspaces
 from app.model.workspaces import names
 
@@ -91,7 +92,8 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
         documents.frame_loaded(state)
 
     @reg.command("recover", "autosave:read [original]", "Open an autosaved scene in its workspace as unsaved changes "
-                 "to the file `original` (untitled without it)")
+                 "to the file `original` (untitled without it); its first save names its file (Save As offers "
+                 "`original`): a plain scene.save does not write there")
     def recover(autosave: str, original: str | None = None) -> None:
         state, _read = load_in_its_workspace(autosave, f"recover {quote(autosave)}")
         documents.named(state, original, recovered=True)
@@ -114,6 +116,9 @@ def register(console: Console, workspaces: Workspaces) -> Documents:
             raise CommandError("a script named this scene's file: give the file to save it to (or File > Save As)")
         target = path or documents.save_path(workspaces.current)
         if target is None:
+            if documents.recovered(workspaces.current):
+                raise CommandError("the scene was recovered from an autosave: give the file to save it to (its first "
+                                   "save names its file; File > Save asks, offering the file it was edited from)")
             raise CommandError("the scene is untitled or a shipped sample: give the file to save it to")
         if path is None:  # the document's own file, which a script may not write (a given path is resolved already)
             target = str(files.writable(console, target))

@@ -3,16 +3,19 @@
 "Changed" compares the workspace's document_digest() with the one at the last save or load, so undoing back to
 the saved state clears it. Before a line the user gave (typed, a menu, a panel, a key) drops unsaved changes,
 `confirm` asks (the window sets it: save, discard or cancel); a headless editor never asks. Autosaves go into
-a folder with a manifest (app/io/autosave.py) that says which file each scene was edited from."""
+a folder with a manifest (app/io/autosave.py) that says which file each scene was edited from, signed with the
+editor's key: only what the editor itself autosaved is offered back. A recovered scene's first Save asks where
+(Save As, offering its original file), whoever named that file."""
 from __future__ import annotations
 
 import os
-import shlex
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from app.console import files
 from app.console.console import Console
+from app.console.quoting import join
 from app.console.registry import CommandError, Reported
 from app.io import autosave as autosave_file
 from app.io.autosave import Autosaved
@@ -26,13 +29,15 @@ class Document:
     path: str | None = None  # None: untitled
     saved: str | None = None  # the document digest when last saved or loaded; None: never (a recovered scene)
     by_script: bool = False  # a script, demo, config, bind or alias named the file: the user's Save never writes it
+    recovered: bool = False  # from an autosave, not saved since: a plain Save does not write `path` unasked
 
 
 class Documents:
     def __init__(self, console: Console, workspaces: Workspaces) -> None:
         self.console, self.workspaces = console, workspaces
         self._documents = {state.name: Document() for state in workspaces}
-        self._autosaved: dict[str, tuple[str, Path]] = {}  # workspace -> its autosave: document digest, file
+        # workspace -> its autosave: the document digest, the file and the file's SHA-256
+        self._autosaved: dict[str, tuple[str, Path, str]] = {}
         # (workspace, the line that would drop its changes) -> go on; the window's save/discard/cancel dialog
         self.confirm: Callable[[Workspace, str], bool] | None = None
         self.path_listeners: list[Callable[[str], None]] = []  # every file a scene is opened from or saved to
@@ -54,13 +59,24 @@ class Documents:
 
     def save_path(self, state: Workspace) -> str | None:
         """Where a plain Save writes: the scene's file, unless it is untitled or one of the shipped resources
-        (a sample opened and edited is saved as a new file, never over the sample), or a script named it (then
-        Save asks where, as Save As does: state a script set is never used with the user's trust unasked)."""
+        (a sample opened and edited is saved as a new file, never over the sample), or the scene was recovered
+        from an autosave and not saved since (the file an autosave names is asked about, never written unasked), or
+        a script named it (then Save asks where, as Save As does: state a script set is never used with the user's
+        trust unasked)."""
         path = self.path(state)
-        return None if path is None or shipped(path) or self.named_by_script(state) else path
+        return None if path is None or shipped(path) or self.recovered(state) or self.named_by_script(state) else path
 
     def named_by_script(self, state: Workspace) -> bool:
         return self._documents[state.name].by_script
+
+    def recovered(self, state: Workspace) -> bool:
+        """Whether the scene was recovered from an autosave and not saved since."""
+        return self._documents[state.name].recovered
+
+    def suggested_path(self, state: Workspace) -> str | None:
+        """The file Save As offers first: where a plain Save writes, else a recovered scene's original file."""
+        path = self.path(state)
+        return self.save_path(state) or (path if self.recovered(state) and not shipped(path) else None)
 
     def modified(self, state: Workspace) -> bool:
         return state.files is not None and self._documents[state.name].saved != self.digest(state)
@@ -69,7 +85,8 @@ class Documents:
         """The scene is now the file `path` (None: untitled), as saved, unless it was `recovered` from an autosave."""
         path = None if path is None else os.path.abspath(path)
         self._documents[state.name] = Document(path, None if recovered else self.digest(state),
-                                               by_script=path is not None and not self.console.trusted)
+                                               by_script=path is not None and not self.console.trusted,
+                                               recovered=recovered)
         self.changes += 1
         for listener in self.path_listeners if path is not None else ():
             listener(path)
@@ -77,7 +94,8 @@ class Documents:
     def forget_changes(self) -> None:
         """Every scene as it stands counts as saved (the start-up scenes; a window closed by its owner)."""
         for state in self.workspaces:
-            self._documents[state.name] = Document(self.path(state), self.digest(state))
+            self._documents[state.name] = Document(self.path(state), self.digest(state),
+                                                   self._documents[state.name].recovered)
         self.changes += 1
 
     def may_replace(self, state: Workspace, line: str) -> None:
@@ -151,7 +169,7 @@ class Documents:
 
         def tracked(*args) -> None:
             if ask:
-                self.may_replace(state, shlex.join([verb, *map(str, args)]))
+                self.may_replace(state, join([verb, *map(str, args)]))
             path = handler(*args)
             self.named(state, path if titled else None)
             if ask and titled:  # a load verb
@@ -163,9 +181,10 @@ class Documents:
 
     def autosave(self, folder: Path) -> int:
         """Save each scene with unsaved changes into `folder` (those unchanged since the last autosave stay as
-        they are) and list them in its manifest; a scene saved since loses its autosave. Returns how many
+        they are) and list them in its manifest, signed; a scene saved since loses its autosave. Returns how many
         scenes the folder holds."""
-        folder.mkdir(parents=True, exist_ok=True)
+        key = self._autosave_key()
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
         kept = []
         for state in self.workspaces:
             if state.files is None:
@@ -174,28 +193,37 @@ class Documents:
             file = None
             if self.modified(state):
                 file, digest = folder / f"{state.name}{state.files.keeping_suffix()}", self.digest(state)
-                if held != (digest, file) or not file.is_file():
+                saved = held
+                if held is None or held[:2] != (digest, file) or not file.is_file():
                     state.files.save(str(file))
-                self._autosaved[state.name] = (digest, file)
-                kept.append(Autosaved(state.name, file, self.path(state)))
+                    saved = (digest, file, autosave_file.file_digest(file))
+                self._autosaved[state.name] = saved
+                kept.append(Autosaved(state.name, file, self.path(state), saved[2]))
             if held is not None and held[1] != file:  # saved since, or another format keeps the scene now
                 held[1].unlink(missing_ok=True)
-        autosave_file.write(folder, kept)
+        autosave_file.write(folder, kept, key)
         return len(kept)
 
     def recoverable(self, folder: Path) -> list[Autosaved]:
         """The scenes an autosave folder holds that are newer than the files they were edited from (all the
-        untitled ones), for workspaces this editor has; none if its manifest cannot be read."""
+        untitled ones), for workspaces this editor has. A folder whose manifest this editor did not write (no
+        signature or a wrong one, a scene file changed since) gives none, and one console message."""
         try:
-            scenes = autosave_file.read(folder)
-        except autosave_file.AutosaveError:
+            scenes = autosave_file.read(folder, self._autosave_key())
+        except autosave_file.AutosaveError as exc:
+            self.console.error(f"autosave: {folder} is passed over: {exc}")
             return []
         found = []
         for scene in scenes:
-            if scene.workspace not in self.workspaces or not scene.file.is_file():
+            if scene.workspace not in self.workspaces:
                 continue
             original = Path(scene.original) if scene.original else None
-            if original is not None and original.is_file() and original.stat().st_mtime >= scene.file.stat().st_mtime:
+            if original is not None and original.is_file() and original.stat().st_mtime >= scene.file.lstat().st_mtime:
                 continue
             found.append(scene)
         return found
+
+    @staticmethod
+    def _autosave_key() -> bytes:
+        """Read each time: another session may have made it again (autosave_file.signing_key)."""
+        return autosave_file.signing_key(files.config_dir() / autosave_file.KEY_FILE)

@@ -9,7 +9,7 @@ from app.console.text import count, number
 from app.io import snowflake_scene
 from app.io.json_file import storable
 from app.io.snowflake_scene import MAX_FLAKES
-from app.model.snowflake import MAX_LEVEL, Flake, SceneError
+from app.model.snowflake import MAX_LEVEL, Flake, SceneError, check_level
 from app.model.snowflake_workspace import SnowflakeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -60,6 +60,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         if level_value(value) is None:
             console.print(f"snow.level is {number(scene.level)}")
         elif value != scene.level:
+            check_level(len(scene.flakes), value)
             history.checkpoint("Set Level")
             scene.level = value
 
@@ -68,6 +69,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
     def step(delta: float) -> None:
         target = min(MAX_LEVEL, max(0.0, round(scene.level + delta, 6)))
         if target != scene.level:
+            check_level(len(scene.flakes), target)
             history.checkpoint("Step Level")
             scene.level = target
 
@@ -76,6 +78,7 @@ def register(console: Console, state: SnowflakeWorkspace, checks: ArgChecks) -> 
         new_flake(x, y, radius)
         if len(scene.flakes) >= MAX_FLAKES:
             raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
+        check_level(len(scene.flakes) + 1, scene.level)
         history.checkpoint("Add Flake")
         console.print(f"flake {scene.add(x, y, radius)} at ({number(x)}, {number(y)})")
 

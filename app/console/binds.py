@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import string
 
-from app.console.registry import check_new_name, check_text, quote
+from app.console.quoting import quote
+from app.console.registry import check_new_name, check_text
 
 NAMED = ("TAB", "ENTER", "ESCAPE", "SPACE", "BACKSPACE", "UPARROW", "DOWNARROW", "LEFTARROW",
          "RIGHTARROW", "INS", "DEL", "PGDN", "PGUP", "HOME", "END", "PAUSE", "SHIFT", "CTRL", "ALT",

@@ -6,7 +6,8 @@ from app.console.binds import KEYS, Binds
 from app.console.console import Console, Origin
 from app.console.lua import LuaScripting
 from app.console.budget import DEFAULT_SECONDS
-from app.console.registry import SCRIPTS, USER, CommandError, Cvar, Reported, check_new_name, join, quote
+from app.console.quoting import join, quote
+from app.console.registry import SCRIPTS, USER, CommandError, Cvar, Reported, check_new_name
 from app.console.text import count
 from app.io.atomic import write_text
 from app.io.regular_file import read_regular_bytes

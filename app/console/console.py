@@ -9,7 +9,8 @@ from pathlib import Path
 from typing import Callable
 
 from app.console.budget import DEFAULT_SECONDS, RunBudget
-from app.console.registry import SCRIPTS, CommandError, Registry, Reported, check_text, join
+from app.console.quoting import join
+from app.console.registry import SCRIPTS, CommandError, Registry, Reported, check_text
 
 MAX_LOG = 10_000  # lines kept; the oldest go first...
 MAX_LOG_CHARS = 4 * 2**20  # ...and at most this much text

@@ -1,6 +1,7 @@
 """The demo commands: record, stop, play, pause, timedemo. The host drives playback with update()."""
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 from typing import Callable
@@ -10,6 +11,7 @@ from app.console.console import Console
 from app.console.budget import RunBudget
 from app.console.registry import SCRIPTS, CommandError
 from app.console.text import count
+from app.io.atomic import name_max
 
 DEMO_SUFFIX = ".demo"
 
@@ -18,12 +20,19 @@ def _demo_path(name: str) -> str:
     return name if name.endswith(DEMO_SUFFIX) else name + DEMO_SUFFIX
 
 
+def snapshot_path(demo_path: Path, suffix: str) -> Path:
+    """Where a recording keeps a scene too big for its lines, in the format of `suffix`: beside the demo."""
+    return demo_path.with_suffix(".start" + suffix)
+
+
 class Demos:
     """At most one recording and one playback at a time.
 
     `preamble(demo_path)` gives the commands that rebuild the current state (a recording starts with
     them; it may write files beside the demo);
     `frame()` draws one frame, for timedemo (None: the host draws nothing, only commands are timed).
+    `snapshot_suffixes`: the formats of the snapshots a preamble may write (snapshot_path), whose names a
+    recording's name must leave room for.
     """
 
     def __init__(self, console: Console, clock: demo.Clock, preamble: Callable[[Path], list[str]],
@@ -34,6 +43,7 @@ class Demos:
         self._home: Path | None = None  # the folder of the demo playing: its lines may read beside it
         self._budget: RunBudget | None = None  # the demo playing's, over all its updates
         self.arg_checks = demo.ArgChecks()  # the command modules add theirs; every demo is checked with them
+        self.snapshot_suffixes: tuple[str, ...] = ()
         self._register()
 
     @property
@@ -73,7 +83,25 @@ class Demos:
             self.console.print("playback stopped")
         if self.recorder is not None:
             recorder, self.recorder = self.recorder, None
-            self.console.print(f"recorded {count(recorder.stop(), 'command')} to {recorder.path}")
+            try:
+                self.console.print(f"recorded {count(recorder.stop(), 'command')} to {recorder.path}")
+            except OSError as exc:  # a full disk, a folder gone since
+                self.console.error(f"cannot write the demo {recorder.path}: {exc.strerror or exc}; the recording "
+                                   "is lost")
+
+    def _check_names(self, path: Path) -> None:
+        """Refuse a recording whose file, or a snapshot beside it, would have a longer name than the folder's
+        file system takes: found at `record`, not when the recording is saved at `stop`."""
+        limit = name_max(path.parent)
+        names = [path.name, *(snapshot_path(path, s).name for s in self.snapshot_suffixes)]
+        longest = max(names, key=lambda n: len(os.fsencode(n)))
+        size = len(os.fsencode(longest))
+        if size > limit:
+            suffix = longest.removeprefix(path.stem)
+            room = limit - len(os.fsencode(suffix))
+            raise CommandError(f"too long a name: with {suffix} (a snapshot it may write beside the demo) it has "
+                               f"{size} bytes, more than the {limit} a file name may have here; give at most {room} "
+                               f"bytes before {DEMO_SUFFIX}")
 
     def _register(self) -> None:
         reg = self.console.registry
@@ -85,7 +113,12 @@ class Demos:
             if self.recorder is not None:
                 raise CommandError(f"already recording {self.recorder.path}; stop first")
             path = files.writable(self.console, _demo_path(name))
-            self.recorder = demo.Recorder(self.console, self.clock, path, self.preamble(path))
+            self._check_names(path)
+            try:
+                preamble = self.preamble(path)
+            except OSError as exc:
+                raise CommandError(f"cannot write the demo's snapshot beside {path}: {exc.strerror or exc}") from None
+            self.recorder = demo.Recorder(self.console, self.clock, path, preamble)
             self.console.print(f"recording to {path}")
 
         @reg.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False, allow=SCRIPTS)

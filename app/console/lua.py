@@ -67,7 +67,8 @@ from pathlib import Path
 from app.console import lua_process
 from app.console.console import Console
 from app.console.lua_sandbox import LUA_OOM
-from app.console.registry import CommandError, join
+from app.console.quoting import join
+from app.console.registry import CommandError
 from app.io.regular_file import read_regular_bytes
 
 # Console output a run may make: printed lines and command lines, each echoed into the log. Past

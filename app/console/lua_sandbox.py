@@ -58,7 +58,7 @@ from lupa import LuaError, LuaRuntime
 
 from app.console.lua_patterns import PATTERNS, WORK_LIMIT
 from app.console.lua_process import Channel
-from app.console.registry import join
+from app.console.quoting import join
 
 HOOK_PERIOD = 1000  # instructions between budget checks: finer costs speed, coarser costs accuracy
 # Python work is charged in instructions too, so a runaway loop of console calls also stops: at the

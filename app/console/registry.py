@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import math
 import re
-import shlex
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from app.console.quoting import quote
 from app.console.text import number
 
 
@@ -22,18 +22,6 @@ class Reported(CommandError):
 # Control characters, and every character str.splitlines() breaks a config line at: text that holds one
 # would come back from config.cfg as two lines, the second one the attacker's. Tab is a blank.
 _CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029]")
-
-
-def quote(word: str) -> str:
-    """A word as the console reads it back whole: shlex's quoting, and quotes too round a `//`, which would start a
-    comment (shlex leaves slashes bare). Every line Shadelab writes for itself to read again (config.cfg, a demo,
-    a recorded line) quotes its words here."""
-    quoted = shlex.quote(word)
-    return f"'{word}'" if quoted == word and "//" in word else quoted
-
-
-def join(words) -> str:
-    return " ".join(quote(str(w)) for w in words)
 
 
 # The names a user or script may give a new alias or cvar, or a bind's workspace: a letter or underscore, then

@@ -25,8 +25,8 @@ class CloudsWorkspaceRenderer(WorkspaceRendererBase):
         self._settling = False
 
     @staticmethod
-    def prepare(progress=None) -> None:
-        noise_textures(progress)
+    def prepare(progress=None, warn=None) -> None:
+        noise_textures(progress, warn=warn)
 
     def cheaper(self, settings: CloudRenderSettings, cheap: int) -> CloudRenderSettings:
         return replace(settings, downsample=max(settings.downsample, DOWNSAMPLES[cheap]),

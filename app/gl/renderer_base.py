@@ -28,9 +28,11 @@ class WorkspaceRendererBase:
         self.ctx, self.shaders = ctx, shaders
 
     @staticmethod
-    def prepare(progress: Callable[[str, float], None] | None = None) -> None:
+    def prepare(progress: Callable[[str, float], None] | None = None,
+                warn: Callable[[str], None] | None = None) -> None:
         """Make what the renderer needs before its first frame, outside any GL context (once per process;
-        the first time on a machine it may take seconds): reports progress(what, fraction done)."""
+        the first time on a machine it may take seconds): reports progress(what, fraction done), and says to
+        `warn` (else logs) what it had to make again (a damaged cache)."""
 
     def render(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool = False) -> bool:
         raise NotImplementedError

@@ -27,13 +27,13 @@ class NoiseTextures:
     blue: np.ndarray
 
 
-# name: (recipe version, shape, builder taking a progress callback or None)
+# name: (recipe version, shape, the range of its values, builder taking a progress callback or None)
 RECIPES = {
-    "shape": (1, (128, 128, 128), lambda progress: cloud_noise.shape_noise(128, progress=progress)),
-    "detail": (1, (32, 32, 32), lambda progress: cloud_noise.detail_noise(32, progress=progress)),
-    "curl": (1, (128, 128, 2), lambda progress: cloud_noise.curl_noise(128, progress=progress)),
-    "cirrus": (1, (256, 256), lambda progress: cloud_noise.cirrus_noise(256, progress=progress)),
-    "blue": (1, (64, 64), lambda progress: blue_noise(64)),
+    "shape": (1, (128, 128, 128), (0.0, 1.0), lambda progress: cloud_noise.shape_noise(128, progress=progress)),
+    "detail": (1, (32, 32, 32), (0.0, 1.0), lambda progress: cloud_noise.detail_noise(32, progress=progress)),
+    "curl": (1, (128, 128, 2), (-1.0, 1.0), lambda progress: cloud_noise.curl_noise(128, progress=progress)),
+    "cirrus": (1, (256, 256), (0.0, 1.0), lambda progress: cloud_noise.cirrus_noise(256, progress=progress)),
+    "blue": (1, (64, 64), (0.0, 1.0), lambda progress: blue_noise(64)),
 }
 _loaded: dict[Path, NoiseTextures] = {}
 
@@ -42,14 +42,17 @@ def noise_dir() -> Path:
     return cache_root() / "noise"
 
 
-def noise_textures(progress: Progress | None = None, cache_dir: Path | None = None) -> NoiseTextures:
-    """The textures, from this process's copy, else the disk cache, else built (reporting `progress`)."""
+def noise_textures(progress: Progress | None = None, cache_dir: Path | None = None,
+                   warn: Callable[[str], None] | None = None) -> NoiseTextures:
+    """The textures, from this process's copy, else the disk cache, else built (reporting `progress`); a cached
+    one that cannot be used (damaged, or with values outside its range) is made again and said to `warn`."""
     folder = cache_dir or noise_dir()
     if folder not in _loaded:
         arrays = {}
-        for name, (version, shape, build) in RECIPES.items():
+        for name, (version, shape, within, build) in RECIPES.items():
             report = None if progress is None else partial(progress, name)
-            arrays[name] = load_or_build(name, partial(build, report), folder, version, shape=shape)
+            arrays[name] = load_or_build(name, partial(build, report), folder, version, shape=shape, within=within,
+                                         warn=warn)
             if progress is not None:
                 progress(name, 1.0)
         _loaded[folder] = NoiseTextures(**arrays)

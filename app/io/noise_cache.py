@@ -7,8 +7,10 @@ One file per texture, `<name>-v<version>.noise` in the cache folder (the product
 
 The file is written atomically (app.io.atomic) and read through app.io.regular_file with a size bound from the
 expected shape, so a FIFO, a device or a folder in its place is refused rather than waited on or read for ever.
-A missing, truncated, corrupt (digest), wrong-shape or wrong-dtype file is rebuilt and overwritten. Bumping
-`version` (the recipe changed) leaves the old file where it is and builds a new one.
+A missing, truncated, corrupt (digest), wrong-shape or wrong-dtype file is rebuilt and overwritten, and so is one
+whose values are not all finite and within the range the recipe makes: the digest only shows the file is whole,
+and anyone who can write the cache can write a matching one. Bumping `version` (the recipe changed) leaves the
+old file where it is and builds a new one.
 """
 from __future__ import annotations
 
@@ -54,8 +56,10 @@ def encode(array: np.ndarray) -> bytes:
     return MAGIC + hashlib.sha256(body).hexdigest().encode("ascii") + b"\n" + body
 
 
-def decode(data: bytes, shape: tuple[int, ...] | None, dtype: np.dtype) -> np.ndarray:
-    """The array in a cache file's bytes; CacheError if it is not exactly what was expected."""
+def decode(data: bytes, shape: tuple[int, ...] | None, dtype: np.dtype,
+           within: tuple[float, float] | None = None) -> np.ndarray:
+    """The array in a cache file's bytes; CacheError if it is not exactly what was expected, or (`within`) holds
+    a value that is not finite or outside lo..hi."""
     if not data.startswith(MAGIC) or len(data) < _HEADER_LEN or data[_HEADER_LEN - 1:_HEADER_LEN] != b"\n":
         raise CacheError("not a noise cache file (no header)")
     body = data[_HEADER_LEN:]
@@ -71,6 +75,12 @@ def decode(data: bytes, shape: tuple[int, ...] | None, dtype: np.dtype) -> np.nd
         raise CacheError(f"dtype {array.dtype}, expected {dtype}")
     if shape is not None and array.shape != tuple(shape):
         raise CacheError(f"shape {array.shape}, expected {tuple(shape)}")
+    if within is not None and array.size:
+        lo, hi = within
+        if not np.isfinite(array).all():
+            raise CacheError(f"{np.count_nonzero(~np.isfinite(array))} values are NaN or infinite")
+        if array.min() < lo or array.max() > hi:
+            raise CacheError(f"values {array.min():g}..{array.max():g}, expected within {lo:g}..{hi:g}")
     return array
 
 
@@ -94,23 +104,26 @@ def _clear_for_write(path: Path) -> bool:
 
 
 def load_or_build(name: str, build: Callable[[], np.ndarray], cache_dir: Path, version: int, *,
-                  shape: tuple[int, ...] | None = None, dtype: np.dtype | type = np.float32) -> np.ndarray:
+                  shape: tuple[int, ...] | None = None, dtype: np.dtype | type = np.float32,
+                  within: tuple[float, float] | None = None, warn: Callable[[str], None] | None = None) -> np.ndarray:
     """The cached array `name` (recipe `version`), or build()'s result, saved for next time.
 
     shape: the expected shape (it also bounds the bytes read); None accepts any shape up to
-    MAX_BYTES_ANY_SHAPE. dtype: the expected dtype, which build() must return. A file that cannot be used is
-    rebuilt and overwritten; a cache that cannot be written (a read-only folder, a full disk) is logged and the
-    built array returned all the same.
+    MAX_BYTES_ANY_SHAPE. dtype: the expected dtype, which build() must return. within: (lo, hi) every value
+    must lie in, finite (None: any). A file that cannot be used is rebuilt and overwritten; a cache that cannot be
+    written (a read-only folder, a full disk) is left and the built array returned all the same. Either is said
+    to `warn` (a host's console), else logged.
     """
+    say = warn or log.warning
     dtype = np.dtype(dtype)
     path = cache_path(name, cache_dir, version)
     try:
-        return decode(read_regular_bytes(path, _max_bytes(shape, dtype)), shape, dtype)
+        return decode(read_regular_bytes(path, _max_bytes(shape, dtype)), shape, dtype, within)
     except FileNotFoundError:
         pass
     except (OSError, CacheError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        log.warning("rebuilding the noise cache %s: %s", path, reason)
+        say(f"rebuilding the noise cache {path}: {reason}")
 
     array = np.asarray(build())
     if array.dtype != dtype or (shape is not None and array.shape != tuple(shape)):
@@ -120,5 +133,5 @@ def load_or_build(name: str, build: Callable[[], np.ndarray], cache_dir: Path, v
             raise OSError(errno.EEXIST, "a folder with files is in the way", os.fspath(path))
         atomic.write_bytes(path, encode(array))
     except OSError as exc:
-        log.warning("cannot write the noise cache %s: %s", path, exc.strerror or exc)
+        say(f"cannot write the noise cache {path}: {exc.strerror or exc}")
     return array

@@ -17,20 +17,19 @@ from typing import BinaryIO
 _OPEN_FLAGS = os.O_RDONLY | os.O_NONBLOCK
 
 
-def _special(mode: int) -> str:
-    if stat.S_ISDIR(mode):
-        return "is a folder"
-    if stat.S_ISFIFO(mode):
-        return "is a FIFO (named pipe)"
-    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
-        return "is a device"
-    return "is a special file"  # a socket, where open() does not already refuse one as Linux does
+def kind(mode: int) -> str:
+    """What a stat() or lstat() mode is, for a message: "a folder", "a FIFO (named pipe)", "a symbolic link"..."""
+    for test, name in ((stat.S_ISREG, "a regular file"), (stat.S_ISDIR, "a folder"), (stat.S_ISLNK, "a symbolic link"),
+                       (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device")):
+        if test(mode):
+            return name
+    return "a special file"  # a socket, where open() does not already refuse one as Linux does
 
 
 def _refuse_irregular(path: str | os.PathLike, st: os.stat_result, max_bytes: int | None) -> None:
     if not stat.S_ISREG(st.st_mode):
         code = errno.EISDIR if stat.S_ISDIR(st.st_mode) else errno.EINVAL
-        raise OSError(code, f"{_special(st.st_mode)}, not a regular file", os.fspath(path))
+        raise OSError(code, f"is {kind(st.st_mode)}, not a regular file", os.fspath(path))
     if max_bytes is not None and st.st_size > max_bytes:
         raise OSError(errno.EFBIG, f"the file is over the size limit of {max_bytes} bytes ({st.st_size} bytes)",
                       os.fspath(path))

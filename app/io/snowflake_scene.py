@@ -7,7 +7,7 @@ import os
 
 from app.io import json_file as jf
 from app.io.atomic import write_text
-from app.model.snowflake import MAX_LEVEL, Flake, SceneError, SnowflakeScene
+from app.model.snowflake import MAX_LEVEL, Flake, SceneError, SnowflakeScene, check_level
 
 FORMAT = "shadelab.snowflake"
 VERSION = 1
@@ -22,7 +22,12 @@ def load(path: str | os.PathLike) -> tuple[list[Flake], float]:
     """Parse and validate the whole file before anything reaches the model."""
     data = jf.read_versioned(path, FORMAT, VERSION, SceneError, VALIDATOR)
     flakes = [Flake(float(item["x"]), float(item["y"]), float(item.get("radius", 0.5))) for item in data["flakes"]]
-    return flakes, float(data.get("level", 2))
+    level = float(data.get("level", 2))
+    try:
+        check_level(len(flakes), level)  # the count and the level may each be fine and together too much work
+    except SceneError as exc:
+        raise SceneError(f"{path}: {exc}") from None
+    return flakes, level
 
 
 def save(path: str | os.PathLike, scene: SnowflakeScene) -> None:

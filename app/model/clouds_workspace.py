@@ -14,6 +14,18 @@ from app.model.workspace import Workspace, short_hash
 
 WEATHER_SIZE = 256
 DEFAULT_WEATHER_SEED = 1
+# The clock runs within 0..MAX_TIME seconds and the wind's time within -MAX_TIME..MAX_TIME: a day, over which the
+# fastest wind (400 m/s) moves the clouds 35,000 km, where the shaders' float32 still resolves 4 m, finer than the
+# detail noise's texels (17 m). Far past it the sky is mush, and at inf or NaN it is gone.
+MAX_TIME = 86_400.0
+
+
+def check_times(clock: float, wind_time: float) -> None:
+    """ValueError unless the clock and the wind's time are within their ranges."""
+    if not 0.0 <= clock <= MAX_TIME:  # also refuses NaN
+        raise ValueError(f"the clock must be within 0..{MAX_TIME:g} s, got {clock:g}")
+    if not -MAX_TIME <= wind_time <= MAX_TIME:
+        raise ValueError(f"the wind's time must be within -{MAX_TIME:g}..{MAX_TIME:g} s, got {wind_time:g}")
 
 
 class CloudsWorkspace(Workspace):
@@ -57,10 +69,15 @@ class CloudsWorkspace(Workspace):
 
     # ---- time ---------------------------------------------------------------------------------------
 
+    def set_times(self, clock: float, wind_time: float) -> None:
+        check_times(clock, wind_time)
+        self.clock, self.wind_time = clock, wind_time
+
     def advance(self, seconds: float) -> None:
-        """Let `seconds` of real time pass: the blend goes on, the winds move by time_scale."""
-        self.clock += seconds
-        self.wind_time += seconds * self.params.time_scale
+        """Let `seconds` of real time pass: the blend goes on, the winds move by time_scale. Both times stop at
+        the ends of their ranges (after a day of blowing wind), where the command that sets them takes them."""
+        self.clock = min(self.clock + seconds, MAX_TIME)
+        self.wind_time = min(max(self.wind_time + seconds * self.params.time_scale, -MAX_TIME), MAX_TIME)
 
     def animating(self) -> bool:
         """Whether frames change with the clock (winds blowing or a blend under way)."""

@@ -63,6 +63,11 @@ MAX_LIGHTS = 8
 MAX_TRIANGLES = 200_000  # the whole scene's: the bench goes to about 100k
 MAX_COORD = 1e5          # positions; float32 still resolves 1/100 of a unit there
 MAX_SIZE = 1e4           # an object's dimensions and a light's range
+# An object's dimensions, and the gaps between them (a torus's hole, an L's arms), are at least this: the resolution
+# float32 keeps at MAX_COORD. So every edge of its mesh has a length and every face an area that float64 holds
+# (a box of 1e-200 has faces of area 1e-400, which is 0: its normals came out NaN and every frame failed), and the
+# GPU still tells its corners apart.
+MIN_SIZE = 1e-2
 MAX_INTENSITY = 16.0     # a light colour's components (over-bright lights are allowed)
 MAX_FALLOFF = 1000.0
 MAX_SHININESS = 4096.0
@@ -142,11 +147,12 @@ def _size(kind: str, size) -> tuple:
                                     f"{mesh3d.MIN_SEGMENTS}..{mesh3d.MAX_SEGMENTS}, got {v:g}")
             out.append(int(v))
         else:
-            out.append(_number(f"{kind} {name}", v, 0.0, MAX_SIZE, above=True))
-    if kind == "torus" and not out[1] < out[0]:
-        raise Lights3DError(f"torus minor radius must be below its major radius, got {out[1]:g} >= {out[0]:g}")
-    if kind == "lprism" and not out[3] < min(out[0], out[1]):
-        raise Lights3DError(f"lprism thickness must be below its sx and sy, got {out[3]:g}")
+            out.append(_number(f"{kind} {name}", v, MIN_SIZE, MAX_SIZE))
+    if kind == "torus" and not out[1] + MIN_SIZE <= out[0]:
+        raise Lights3DError(f"torus minor radius must be below its major radius by at least {MIN_SIZE:g}, got "
+                            f"{out[1]:g} and {out[0]:g}")
+    if kind == "lprism" and not out[3] + MIN_SIZE <= min(out[0], out[1]):
+        raise Lights3DError(f"lprism thickness must be below its sx and sy by at least {MIN_SIZE:g}, got {out[3]:g}")
     triangles = triangle_count(kind, tuple(out))
     if triangles > MAX_TRIANGLES:
         raise Lights3DError(f"a {kind} of {triangles} triangles is more than {MAX_TRIANGLES}")

@@ -1,7 +1,6 @@
 """The 3D lights workspace's state: the scene, the orbit camera, the selected item (the gizmo's) and undo."""
 from __future__ import annotations
 
-import shlex
 from dataclasses import astuple, replace
 from typing import Callable
 
@@ -111,7 +110,7 @@ class Lights3DWorkspace(Workspace):
         if self.scene == default_scene():
             lines = ["lights3d.reset"]
         else:
-            lines = [f"scene.load {shlex.quote(snapshot())}"]
+            lines = [f"scene.load {snapshot()}"]
         cam, selected = self.camera, self.selection
         x, y, z = cam.target
         return lines + [f"view.target {x!r} {y!r} {z!r}", f"view.orbit {cam.yaw!r} {cam.pitch!r} {cam.distance!r}",

@@ -8,6 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 
 MAX_LEVEL = 8.0  # 3 * 4**8 segments per flake: already more than a screen can show
+# Segments a frame draws, all flakes together: the bench's 64 flakes at level 7 (3.1 million) fit, and so do 21 at
+# level 8. Each flake and level is cheap alone; 4,096 flakes at level 8 (805 million) took minutes a frame.
+MAX_SEGMENTS = 1 << 22
 
 
 class SceneError(ValueError):
@@ -25,6 +28,21 @@ class Flake:
             raise SceneError(f"flake values must be finite, got ({self.x}, {self.y}, {self.radius})")
         if self.radius <= 0:
             raise SceneError(f"flake radius must be > 0, got {self.radius}")
+
+
+def segment_count(flakes: int, level: float) -> int:
+    """Segments drawn for `flakes` flakes at `level`: 3 * 4**ceil(level) each."""
+    return flakes * 3 * 4 ** math.ceil(level)
+
+
+def check_level(flakes: int, level: float) -> None:
+    """SceneError unless `level` is within 0..MAX_LEVEL and `flakes` flakes at it keep to the segment budget."""
+    if not (0.0 <= level <= MAX_LEVEL):
+        raise SceneError(f"level must be within 0..{MAX_LEVEL:g}, got {level:g}")
+    count = segment_count(flakes, level)
+    if count > MAX_SEGMENTS:
+        raise SceneError(f"{flakes} flakes at level {level:g} draw {count:,} segments, more than the budget of "
+                         f"{MAX_SEGMENTS:,} (flakes x 3 x 4^level); use fewer flakes or a lower level")
 
 
 def split_level(level: float) -> tuple[int, float]:
@@ -54,13 +72,14 @@ class SnowflakeScene:
     @level.setter
     def level(self, value: float) -> None:
         value = float(value)
-        if not (0.0 <= value <= MAX_LEVEL):
-            raise SceneError(f"level must be within 0..{MAX_LEVEL:g}, got {value:g}")
+        check_level(len(self.flakes), value)
         self._level = value
         self.version += 1
 
     def add(self, x: float, y: float, radius: float) -> int:
-        self.flakes.append(Flake(float(x), float(y), float(radius)))
+        flake = Flake(float(x), float(y), float(radius))
+        check_level(len(self.flakes) + 1, self._level)
+        self.flakes.append(flake)
         self.version += 1
         return len(self.flakes) - 1
 
@@ -79,8 +98,9 @@ class SnowflakeScene:
 
     def replace(self, flakes: list[Flake], level: float) -> None:
         """Swap in a whole scene (a loaded file) only after every value passed validation."""
-        self.level = level
-        self.flakes = list(flakes)
+        check_level(len(flakes), float(level))
+        self._level, self.flakes = float(level), list(flakes)
+        self.version += 1
 
     def pick(self, x: float, y: float, slack: float) -> int | None:
         """The nearest flake whose inner half, or a `slack` radius round its centre, holds (x, y)."""

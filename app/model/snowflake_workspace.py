@@ -53,7 +53,9 @@ class SnowflakeWorkspace(Workspace):
         return self.frame_commands(aspect)
 
     def opening_commands(self, snapshot: Callable[[], str]) -> list[str]:
-        """Commands that rebuild the scene and its view exactly (floats as repr)."""
+        """Commands that rebuild the scene and its view exactly (floats as repr). The level goes first: each flake
+        then adds to a count that never passes the segment budget at that level, as the whole scene keeps to it."""
         scene, cam = self.scene, self.camera
-        return ["snow.clear", *(f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes),
-                f"snow.level {scene.level!r}", f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]
+        return ["snow.clear", f"snow.level {scene.level!r}",
+                *(f"snow.add {f.x!r} {f.y!r} {f.radius!r}" for f in scene.flakes),
+                f"snow.view {cam.cx!r} {cam.cy!r} {cam.height!r}"]

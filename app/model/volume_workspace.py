@@ -1,7 +1,6 @@
 """The volume workspace's state: the 3D raster image (which keeps its own undo steps) and its view."""
 from __future__ import annotations
 
-import shlex
 from functools import cache
 from typing import Callable
 
@@ -87,12 +86,12 @@ class VolumeWorkspace(Workspace):
         v, scalars = self.view, self.volume.scalars
         if scalars is not None:
             t = scalars.transfer
-            lines = [f"load {shlex.quote(snapshot('.npy'))}", f"vol.colormap {t.colormap}",
+            lines = [f"load {snapshot('.npy')}", f"vol.colormap {t.colormap}",
                      f"vol.window {t.low!r} {t.high!r}"]
         elif self.volume.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
-            lines = [f"load {shlex.quote(snapshot())}"]
+            lines = [f"load {snapshot()}"]
         return lines + [
             f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
             f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",

@@ -83,8 +83,8 @@ class Workspace:
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild this state from any other: a demo's opening lines. `snapshot()` saves the
-        scene beside the demo and returns its path, for state too big for command lines; `snapshot(suffix)`
-        saves it in another of its formats than `files.suffixes[0]`."""
+        scene beside the demo and returns its path as one console word (quoted where it must be), for state too
+        big for command lines; `snapshot(suffix)` saves it in another of its formats than `files.suffixes[0]`."""
         raise NotImplementedError
 
 

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import shlex
 import sys
 import time
 from pathlib import Path
@@ -11,6 +10,7 @@ from PySide6.QtCore import QTimer
 from PySide6.QtGui import QSurfaceFormat
 from PySide6.QtWidgets import QApplication
 
+from app.console.quoting import quote
 from app.gl.headless import SAMPLES
 
 SCREENSHOT_DELAY_MS = 1500  # let docks settle and the first frames land
@@ -43,7 +43,7 @@ def startup_command(path: str) -> str:
     """As Tex3Dtrace's first argument: a config runs after start-up, anything else is opened in the workspace
     its format belongs to."""
     verb = {".cfg": "exec", ".lua": "lua", ".demo": "play"}.get(Path(path).suffix, "open")
-    return f"{verb} {shlex.quote(path)}"
+    return f"{verb} {quote(path)}"
 
 
 def run_editor(args: argparse.Namespace) -> int:

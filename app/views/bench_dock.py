@@ -6,6 +6,7 @@ that the editor's own frames do not slow the one measured. Hovering a point name
 Nothing in it widens the window: long texts wrap or are cut, in full in their tooltips."""
 from __future__ import annotations
 
+import os
 import re
 import sys
 from pathlib import Path
@@ -81,9 +82,10 @@ class BenchDock(QWidget):
         self.technique = name
         self.run_button.setEnabled(name in TECHNIQUES and self.process is None)
         csv_path = bench_dir() / f"{name}.csv"
-        if csv_path.exists():
-            self.load(csv_path)
-        elif name in TECHNIQUES:
+        refused = self.load(csv_path) if os.path.lexists(csv_path) else None  # lexists: a dangling link is said
+        if refused == "":
+            return
+        if name in TECHNIQUES:
             self._show_hint(f"<p>No measurement of <b>{name}</b> yet.</p>"
                             "<p><b>Run quick bench</b> measures each method at a few settings on small images, "
                             "in under a minute.</p>"
@@ -92,6 +94,7 @@ class BenchDock(QWidget):
         else:
             self._show_hint(f"<p>The {workspace} workspace has no bench.</p>"
                             "<p><b>Open CSV…</b> shows any bench's results.</p>")
+        self.set_status(refused or "")  # why the last results are not shown, with the hint for new ones
 
     def _show_hint(self, html: str) -> None:
         self.drawing.clear()
@@ -99,15 +102,19 @@ class BenchDock(QWidget):
         self.pages.setCurrentWidget(self.hint)
         self.set_status("")
 
-    def load(self, path: Path) -> None:
+    def load(self, path: Path) -> str:
+        """Show the bench CSV at `path`; "" if it was, else why not (also in the status line). The results in the
+        cache are input like any file: one cut short, or a FIFO in its place, is said and never trusted."""
         try:
             rows = report.read_csv(path)
-        except (OSError, ValueError, KeyError) as exc:
-            self.set_status(f"cannot read {path.name}: {exc}")
-            return
+        except (OSError, ValueError) as exc:
+            refused = f"cannot read {path.name}: {(exc.strerror or exc) if isinstance(exc, OSError) else exc}"
+            self.set_status(refused)
+            return refused
         self.drawing.show(rows)
         self.pages.setCurrentWidget(self.chart)
         self.set_status(f"{path.name}: {len(rows)} measurements")
+        return ""
 
     # -- the quick bench ----------------------------------------------------------------------------------
 

@@ -2,13 +2,13 @@
 the weather, and the renderer's cvars. Each change is a console command, so demos, undo and Lua see it."""
 from __future__ import annotations
 
-import shlex
 
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGridLayout, QGroupBox,
                                QHBoxLayout, QLabel, QPushButton, QSlider, QVBoxLayout, QWidget)
 
 from app.commands.clouds import SWITCHES
+from app.console.quoting import quote
 from app.model.clouds import INTEGRATIONS, PARAM, Param
 
 SLIDER_STEPS = 1000
@@ -140,7 +140,7 @@ class CloudsPanel(QWidget):
     def _load_weather(self) -> None:
         path, _ = QFileDialog.getOpenFileName(self, "Load weather map", "", "PNG images (*.png)")
         if path:
-            self._send(f"weather.load {shlex.quote(path)}")
+            self._send(f"weather.load {quote(path)}")
 
     def sync(self) -> None:
         """Show the model's and the cvars' values without sending them back as commands."""

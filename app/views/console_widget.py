@@ -12,12 +12,23 @@ from PySide6.QtGui import QColor, QFont, QTextCharFormat
 from PySide6.QtWidgets import QLineEdit, QPlainTextEdit, QVBoxLayout, QWidget
 
 from app.console.completion import complete
-from app.console.console import MAX_LOG, Console, LogLine
+from app.console.console import MAX_LINE, MAX_LOG, Console, LogLine
+from app.console.registry import CommandError, check_text
 from app.io.atomic import write_text
+from app.io.regular_file import read_regular_bytes
 from app.views.weak_callback import weak_callback
 
 COLOURS = {"input": "#8ecae6", "info": "#d0d4dc", "error": "#ff6b6b"}
 HISTORY_LINES = 500
+MAX_HISTORY_BYTES = 8 << 20  # 500 lines of a long stroke each
+
+
+def _typable(line: str) -> bool:
+    try:
+        check_text("a line", line)
+    except CommandError:
+        return False
+    return len(line) <= MAX_LINE
 
 
 class CommandLine(QLineEdit):
@@ -34,10 +45,18 @@ class CommandLine(QLineEdit):
         self.returnPressed.connect(self._run)
 
     def _read_history(self) -> list[str]:
+        """The lines typed in earlier runs. The file is input like any other: one that is not a regular file (a
+        FIFO would hang the start), too big or not UTF-8 is said and passed over (the next line typed writes a new
+        one), and a line no console line could be (too long, a control character) is dropped."""
         try:
-            return self.history_path.read_text(encoding="utf-8").splitlines()[-HISTORY_LINES:]
-        except (OSError, UnicodeDecodeError):
+            text = read_regular_bytes(self.history_path, MAX_HISTORY_BYTES).decode("utf-8")
+        except FileNotFoundError:
             return []
+        except (OSError, UnicodeDecodeError) as exc:
+            reason = exc.strerror if isinstance(exc, OSError) else f"not UTF-8 text (byte {exc.start})"
+            self.console.error(f"the console history {self.history_path} is not read: {reason}")
+            return []
+        return [line for line in text.split("\n") if line and _typable(line)][-HISTORY_LINES:]
 
     def _run(self) -> None:
         line = self.text().strip()

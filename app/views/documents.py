@@ -6,12 +6,12 @@ one dialog asks it for every changed scene. What a dialog chooses runs as a cons
 line."""
 from __future__ import annotations
 
-import shlex
 from pathlib import Path
 
 from PySide6.QtCore import QObject
 from PySide6.QtWidgets import QFileDialog, QMessageBox
 
+from app.console.quoting import quote
 from app.console.registry import CommandError
 from app.model.workspace import Workspace
 from app.model.workspaces import workspace_title
@@ -125,10 +125,11 @@ class DocumentsUI(QObject):
         filters.insert(1 if current.files is not None else 0, every)
         path, _ = QFileDialog.getOpenFileName(self.window, "Open", FileFolder().start(),
                                               ";;".join([*filters, "All files (*)"]))
-        return bool(path) and self._run_chosen(f"open {shlex.quote(path)}")
+        return bool(path) and self._run_chosen(f"open {quote(path)}")
 
     def save(self) -> bool:
-        """File > Save: to the scene's file, or to one chosen in a dialog if it is untitled. True: saved."""
+        """File > Save: to the scene's file, or to one chosen in a dialog if it is untitled (or recovered and not
+        saved since). True: saved."""
         if self.documents.save_path(self.editor.current) is None:
             return self.save_as()
         return self.window.run("scene.save")
@@ -139,14 +140,15 @@ class DocumentsUI(QObject):
             raise CommandError(f"the {state.name} workspace has no scene files")
         title = workspace_title(state.name)
         shown = self.documents.path(state)  # a sample's name is offered in the user's folder, never its own
-        start = self.documents.save_path(state) or str(Path(FileFolder().start(), Path(shown).name if shown else ""))
+        start = (self.documents.suggested_path(state)  # a recovered scene's original: the user says if it goes there
+                 or str(Path(FileFolder().start(), Path(shown).name if shown else "")))
         path, _ = QFileDialog.getSaveFileName(self.window, f"Save As — {title} scene", start,
                                               name_filter(f"{title} files", state.files.suffixes))
         if not path:
             return False
         if not Path(path).suffix:
             path += state.files.keeping_suffix()  # a scalar volume: .nrrd, which keeps its window
-        return self._run_chosen(f"scene.save {shlex.quote(path)}")
+        return self._run_chosen(f"scene.save {quote(path)}")
 
     def _remember_folder(self, path: str) -> None:
         """The folder of a file the user opened or saved is where the next dialog starts (not a script's, nor

@@ -216,7 +216,7 @@ class MainWindow(QMainWindow):
                 dialogs[0].setValue(int(fraction * 999))  # a modal dialog processes events here
         self.viewport.preparing = True  # events are processed: no frame of a workspace half made
         try:
-            RENDERERS[name].prepare(progress)
+            RENDERERS[name].prepare(progress, self.editor.console.error)
         finally:
             self.viewport.preparing = False
             for dialog in dialogs:

@@ -3,7 +3,6 @@ so a menu does nothing a typed line, a script or a demo could not; the dialogs a
 from __future__ import annotations
 
 import html
-import shlex
 from importlib import metadata
 from pathlib import Path
 
@@ -12,6 +11,7 @@ from PySide6.QtCore import QObject, Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDialog, QLabel, QMessageBox, QScrollArea, QVBoxLayout
 
+from app.console.quoting import quote
 from app.console.registry import SCRIPTS, CommandError
 from app.model.workspaces import workspace_title
 from app.views.docs_viewer import DocsViewer
@@ -124,7 +124,7 @@ class Menus(QObject):
         paths = self.recent.paths()  # window.ini, read once
         for path in paths:
             action = self.recent_menu.addAction(path)
-            action.triggered.connect(lambda _checked=False, p=path: self.window.run(f"open {shlex.quote(p)}"))
+            action.triggered.connect(lambda _checked=False, p=path: self.window.run(f"open {quote(p)}"))
         self.recent_menu.addSeparator()
         clear = self.recent_menu.addAction("Clear Menu", self.recent.clear)
         clear.setEnabled(bool(paths))
