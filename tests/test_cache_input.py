@@ -22,6 +22,7 @@ from app.io.autosave import file_digest
 from app.io.cloud_textures import RECIPES, noise_dir, noise_textures
 from dialogs import NoDialogs, answer, showed
 from test_exec_cli import ROOT
+from tests.test_window_documents import CRASHING_SESSION
 
 Button = QMessageBox.StandardButton
 
@@ -222,19 +223,6 @@ def test_a_planted_manifest_is_passed_over_and_nothing_is_written_where_it_names
     assert os.listdir(autosave) == [window.autosave.folder.name]
 
 
-CRASHING_SESSION = """
-    import os, sys
-    from PySide6.QtWidgets import QApplication
-    from app.views.application import set_surface_format
-    set_surface_format()
-    app = QApplication(sys.argv[:1])
-    from app.views.main_window import MainWindow
-    window = MainWindow()
-    window.run("open {path}")
-    window.run("snow.add 0.25 -0.5 0.125")
-    assert window.autosave.save() == 1
-    os._exit(3)  # a crash: no close, no clean-up
-"""
 
 
 def test_a_recovered_scenes_first_save_asks_where(qtbot, cache, tmp_path):
