@@ -102,6 +102,7 @@ def render(args) -> int:
         return 1
     editor = Editor()
     editor.console.log_listeners.append(print_log_line)
+    editor.workspaces.view_aspect = args.size[0] / args.size[1]  # view.frame and a loaded file fit the picture
     commands = [f"workspace {args.workspace}"]
     if args.scene:
         commands.append(f"scene.load {quote(args.scene)}")

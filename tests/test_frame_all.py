@@ -106,3 +106,17 @@ def test_a_loaded_scene_off_view_is_framed_and_one_in_view_keeps_the_view(editor
     assert editor.execute("snow.view 900 -400 20")
     assert editor.execute(f"scene.load {tmp_path / 'far.json'}")
     assert editor.current.camera.key() == (900.0, -400.0, 20.0)  # in view already: the view stays
+
+
+def test_shadelab_render_frames_for_the_pictures_shape(tmp_path):
+    """`--cmd view.frame` in a wide picture frames for its width (the headless host has no view of its own)."""
+    from app import cli
+
+    out = tmp_path / "wide.png"
+    assert cli.main(["render", "snowflake", "--size", "160x40", "--cmd", "snow.clear; snow.add 10 0 1",
+                     "--cmd", "snow.add -10 0 1", "--cmd", "view.frame", "--out", str(out)]) == 0
+    from app.io.png import read_png
+
+    image = read_png(out)
+    lit = (image[..., :3].max(axis=-1) > 60).any(axis=0)
+    assert lit[:20].any() and lit[-20:].any()  # both flakes, near either end of the wide picture
