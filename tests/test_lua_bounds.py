@@ -1,9 +1,9 @@
 """Lua never runs C code that cannot be stopped (issue 26): whatever a script calls, the run ends
 at its limits, with a clean message, and the console works after.
 
-Liveness is the property here, so these tests time runs: each must end within its time limit plus
-0.5 s (the interpreter's process is killed `KILL_GRACE` past the limit when nothing inside Lua
-could stop it)."""
+Liveness is the property here, so these tests time runs, bounded generously for a shared machine: each
+ends with its limit's message, killed `KILL_GRACE` past the limit when nothing inside Lua could stop it
+(measured 0.7 s for a 0.5 s limit, docs/console.md), against 5 s to hours before."""
 import os
 import re
 import subprocess
@@ -20,7 +20,7 @@ from tests.test_exec_cli import shadelab_exec
 from tests.test_lua import errors, infos, make_console
 
 LIMIT = 0.5  # seconds: small, so hostile runs end fast on a small machine
-SLACK = 0.5  # what a run may take past its limit
+SLACK = 2.5  # what a run may take past its limit here, however busy the machine: still far below the old runs
 TIMED_OUT = rf"lua: hostile\.lua(:\d+)?: time limit exceeded \({LIMIT:g} s\)"
 # How a run may end that called anything with anything (each call under pcall): done, at a limit,
 # or (coroutine.yield) by yielding out of the script.
