@@ -38,7 +38,7 @@ def _size(text: str) -> tuple[int, int]:
 
 def parser() -> argparse.ArgumentParser:
     from app.bench import TECHNIQUES
-    from app.gl.workspace_renderer import RENDERERS
+    from app.gl.core.workspace_renderer import RENDERERS
     from app.model.workspaces import names
 
     p = argparse.ArgumentParser(prog="shadelab",
@@ -91,8 +91,8 @@ def render(args) -> int:
     from app.console.files import check_folder
     from app.console.registry import CommandError
     from app.editor import Editor
-    from app.gl.headless import OffscreenTarget, create_context, release_context
-    from app.gl.workspace_renderer import RENDERERS, WorkspaceRenderer
+    from app.gl.core.headless import OffscreenTarget, create_context, release_context
+    from app.gl.core.workspace_renderer import RENDERERS, WorkspaceRenderer
     from app.io.png import write_png
 
     try:
@@ -132,8 +132,8 @@ def bench(args) -> int:
         return bench_frames(args)
     from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE
     from app.bench import harness, report
-    from app.gl.headless import create_context, release_context
-    from app.gl.workspace_renderer import RENDERERS
+    from app.gl.core.headless import create_context, release_context
+    from app.gl.core.workspace_renderer import RENDERERS
     from app.views.bench_chart import save_chart
 
     ensure_qt_app(offscreen=True)  # the chart is painted by pyqtgraph
@@ -167,8 +167,8 @@ def bench(args) -> int:
 
 def bench_frames(args) -> int:
     from app.bench import frame_budget
-    from app.gl.headless import create_context, release_context
-    from app.gl.workspace_renderer import RENDERERS
+    from app.gl.core.headless import create_context, release_context
+    from app.gl.core.workspace_renderer import RENDERERS
 
     RENDERERS["clouds"].prepare(terminal_progress(sys.stderr))
     ctx = create_context()
@@ -248,8 +248,8 @@ class HeadlessFrame:
         self.target = None
 
     def __call__(self) -> None:
-        from app.gl.headless import OffscreenTarget, create_context
-        from app.gl.workspace_renderer import WorkspaceRenderer
+        from app.gl.core.headless import OffscreenTarget, create_context
+        from app.gl.core.workspace_renderer import WorkspaceRenderer
 
         if self.target is None:
             ctx = create_context()

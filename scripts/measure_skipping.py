@@ -7,14 +7,14 @@ the bench's Cornell box against the CPU reference at the same cl_steps 128.
 """
 import numpy as np
 
-from app.gl.headless import OffscreenTarget, create_context
-from app.gl.raytracer import RayTracer, TraceSettings
-from app.gl.shaders import ShaderLibrary
+from app.gl.core.headless import OffscreenTarget, create_context
+from app.gl.volume.raytracer import RayTracer, TraceSettings
+from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
-from app.model.render_modes import MODES
-from app.model.volume import Volume
-from app.model.volume_samples import cornell_box
-from app.model.volume_view import VolumeView
+from app.model.volume.render_modes import MODES
+from app.model.volume.volume import Volume
+from app.model.volume.samples import cornell_box
+from app.model.volume.view import VolumeView
 from app.reference.volume import render as reference
 from app.resources import SHADERS
 from tests.sparse_volumes import KINDS, random_camera, random_steps, sparse_volume

@@ -4,7 +4,7 @@ import tempfile
 
 import pytest
 
-from app.gl.headless import create_context, release_context
+from app.gl.core.headless import create_context, release_context
 
 # Keep tests away from the user's cache (shader .prs files, bench results).
 os.environ["SHADELAB_CACHE_DIR"] = tempfile.mkdtemp(prefix="shadelab-test-cache-")
@@ -67,7 +67,7 @@ def _qt_windows_die_with_their_test(request):
 
 
 def gl_state_errors() -> list[str]:
-    """What the frames of every open window's viewport left behind (app/gl/gl_state.py), in GL debug mode."""
+    """What the frames of every open window's viewport left behind (app/gl/core/gl_state.py), in GL debug mode."""
     from PySide6.QtWidgets import QApplication
 
     from app.views.viewport import Viewport

@@ -1,5 +1,5 @@
 """The GL state a stencil pass may touch, read back through PyOpenGL, for tests that it was put back."""
-from app.gl.stencil import GL
+from app.gl.core.stencil import GL
 
 SWITCHES = ("GL_STENCIL_TEST", "GL_DEPTH_TEST", "GL_CULL_FACE", "GL_DEPTH_CLAMP", "GL_SCISSOR_TEST", "GL_BLEND")
 INTEGERS = ("GL_STENCIL_FUNC", "GL_STENCIL_REF", "GL_STENCIL_VALUE_MASK", "GL_STENCIL_WRITEMASK", "GL_STENCIL_FAIL",

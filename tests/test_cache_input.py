@@ -17,9 +17,9 @@ from app.bench import report
 from app.bench.harness import Row
 from app.editor import Editor
 from app.console.demo import VirtualClock
-from app.io import noise_cache
+from app.io.clouds import noise_cache
 from app.io.autosave import file_digest
-from app.io.cloud_textures import RECIPES, noise_dir, noise_textures
+from app.io.clouds.textures import RECIPES, noise_dir, noise_textures
 from dialogs import NoDialogs, answer, showed
 from test_exec_cli import ROOT
 from tests.test_window_documents import CRASHING_SESSION

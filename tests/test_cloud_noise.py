@@ -6,7 +6,7 @@ import itertools
 import numpy as np
 import pytest
 
-from app.model import cloud_noise as cn
+from app.model.clouds import noise as cn
 
 
 def seam_ratio(a: np.ndarray, axis: int) -> float:

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.io.weather_image import WeatherError, load_weather, save_weather
-from app.model import cloud_noise as cn
-from app.model.blue_noise import blue_noise
-from app.model.cloud_weather import WeatherBlend, resample, weather_map
+from app.io.clouds.weather_image import WeatherError, load_weather, save_weather
+from app.model.clouds import noise as cn
+from app.model.clouds.blue_noise import blue_noise
+from app.model.clouds.weather import WeatherBlend, resample, weather_map
 
 
 def seam_ratio(a: np.ndarray, axis: int) -> float:

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from app.bench import WORKSPACE_TECHNIQUE, TECHNIQUES, clouds, clouds_report, harness, report
-from app.io.cloud_textures import NoiseTextures
+from app.io.clouds.textures import NoiseTextures
 from app.io.png import read_png
-from app.model import cloud_noise as cn
-from app.model.cloud_weather import WeatherBlend
+from app.model.clouds import noise as cn
+from app.model.clouds.weather import WeatherBlend
 
 TINY = clouds.Plan(reference_size=(32, 18), reference_steps=64, gpu_steps=(16, 32), cpu_steps=(32,),
                    buffer_size=(32, 18), buffer_steps=(8, 16), settings_size=(32, 18), settings_steps=(16,),
@@ -30,8 +30,8 @@ def tiny_noise() -> NoiseTextures:
 @pytest.fixture
 def tiny_textures(monkeypatch):
     """The bench and the clouds renderer's prepare() get tiny noise textures instead of the cached ones."""
-    import app.gl.clouds_workspace
-    import app.io.cloud_textures
+    import app.gl.clouds.workspace
+    import app.io.clouds.textures
 
     noise = tiny_noise()
     prepared = []
@@ -40,8 +40,8 @@ def tiny_textures(monkeypatch):
         prepared.append(progress)
         return noise
 
-    monkeypatch.setattr(app.io.cloud_textures, "noise_textures", provide)
-    monkeypatch.setattr(app.gl.clouds_workspace, "noise_textures", provide)
+    monkeypatch.setattr(app.io.clouds.textures, "noise_textures", provide)
+    monkeypatch.setattr(app.gl.clouds.workspace, "noise_textures", provide)
     return prepared
 
 
@@ -57,10 +57,10 @@ def tiny_bench() -> clouds.CloudsBench:
 def measured(gl, qapp, tmp_path_factory):
     """One run of the tiny technique: (bench, rows, output folder with the CSV and the extra outputs)."""
     mp = pytest.MonkeyPatch()
-    import app.io.cloud_textures
+    import app.io.clouds.textures
 
     noise = tiny_noise()
-    mp.setattr(app.io.cloud_textures, "noise_textures", lambda progress=None, cache_dir=None, warn=None: noise)
+    mp.setattr(app.io.clouds.textures, "noise_textures", lambda progress=None, cache_dir=None, warn=None: noise)
     try:
         bench = tiny_bench()
         tech = clouds.make_technique(bench)

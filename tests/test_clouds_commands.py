@@ -9,8 +9,8 @@ import pytest
 from PIL import Image
 
 from app.editor import Editor
-from app.model.clouds import PARAMS, CloudParams
-from app.model.clouds_workspace import MAX_TIME
+from app.model.clouds.scene import PARAMS, CloudParams
+from app.model.clouds.workspace import MAX_TIME
 
 
 @pytest.fixture

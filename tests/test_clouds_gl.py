@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from app.gl.workspace_renderer import WorkspaceRenderer
-from app.model.clouds import CloudRenderSettings
-from app.model.clouds_workspace import CloudsWorkspace
+from app.gl.core.workspace_renderer import WorkspaceRenderer
+from app.model.clouds.scene import CloudRenderSettings
+from app.model.clouds.workspace import CloudsWorkspace
 
 SIZE = (64, 36)
 PLAIN = CloudRenderSettings(steps=48, downsample=1, jitter=False, taa=False, reproject=False)
@@ -129,7 +129,7 @@ def test_reprojection_traces_one_pixel_of_each_block_and_converges_to_the_full_t
 
 def seen_last_frame(state, turn: float, size=SIZE) -> np.ndarray:
     """Which output pixels (rows from the bottom) look in a direction the view `turn` degrees of yaw back saw."""
-    from app.model.clouds import camera_basis
+    from app.model.clouds.scene import camera_basis
 
     now = camera_basis(state.view)
     f, r, u = (np.array(v) for v in camera_basis(replace(state.view, yaw=state.view.yaw - turn)))
@@ -219,7 +219,7 @@ def test_no_seam_where_the_reduced_buffer_meets_the_full_size_picture(host):
 def test_a_weather_interrupted_mid_blend_does_not_jump(host):
     state = sky(pitch=25.0)
     state.params = state.params.with_value("weather_blend", 20.0)
-    from app.model.cloud_weather import weather_map
+    from app.model.clouds.weather import weather_map
     state.new_weather(weather_map(3, 256), "new 3")
     state.advance(8.0)
     before, _, _ = draw(host, state)
@@ -243,14 +243,14 @@ def test_weather_maps_are_uploaded_only_when_they_change(host):
     state.advance(1.0)
     draw(host, state)
     assert textures.sync_weather(state.weather) == 0  # the clock moved, the maps did not
-    from app.model.cloud_weather import weather_map
+    from app.model.clouds.weather import weather_map
     state.new_weather(weather_map(7, 256), "new 7")
     assert textures.sync_weather(state.weather) == 2
 
 
 def test_a_renderer_shown_another_state_uploads_its_weather(host):
     """Two states whose blends went through as many changes: the second's maps are not taken for the first's."""
-    from app.model.cloud_weather import weather_map
+    from app.model.clouds.weather import weather_map
     first, second = sky(pitch=20.0), sky(pitch=20.0)
     first.new_weather(weather_map(3, 256), "new 3")
     second.new_weather(weather_map(4, 256), "new 4")

@@ -10,9 +10,9 @@ import pytest
 from scipy.integrate import quad
 from scipy.ndimage import map_coordinates
 
-from app.model import cloud_noise as cn
-from app.model import clouds as cm
-from app.model.clouds import CloudParams, CloudTextures, CloudView
+from app.model.clouds import noise as cn
+from app.model.clouds import scene as cm
+from app.model.clouds.scene import CloudParams, CloudTextures, CloudView
 from app.reference import clouds as rc
 from app.reference import clouds_medium
 

@@ -259,7 +259,7 @@ def test_a_stroke_previewed_under_the_mouse_hashes_the_volume_once_not_per_move(
     """A preview changes the volume's version at every move; the document's digest (a hash of every voxel) is kept
     by the history instead, so hovering with the brush does not hash the volume each time; an edit, its undo and
     the preview's end each do, and the document is modified exactly while the edit stands."""
-    from app.model.volume import Volume
+    from app.model.volume.volume import Volume
 
     assert editor.execute("workspace volume") and editor.execute("sample cornell_box 16")
     editor.documents.forget_changes()

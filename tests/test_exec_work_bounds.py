@@ -8,7 +8,7 @@ import shlex
 import subprocess
 import sys
 
-from app.model.clouds_workspace import MAX_TIME
+from app.model.clouds.workspace import MAX_TIME
 from app.model.snowflake import MAX_SEGMENTS
 from test_exec_cli import ROOT, shadelab_exec
 

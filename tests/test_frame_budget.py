@@ -1,4 +1,4 @@
-"""The host's frame budget (app/gl/frame_budget.py): while the user interacts every workspace draws at the most
+"""The host's frame budget (app/gl/core/frame_budget.py): while the user interacts every workspace draws at the most
 accurate level of its own that fits r_frameBudget, as its measured frames teach the ladder, and the still frame
 after is whole again. Frame times are fed to the ladder here, so what is asserted is the level chosen and the
 work it saves (pixels drawn, the settings a level gives the renderer), never the clock."""
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from app.editor import Editor
-from app.gl.frame_budget import FULL, Level, QualityLadder
-from app.gl.headless import OffscreenTarget
-from app.gl.workspace_renderer import RENDERERS, WorkspaceRenderer
+from app.gl.core.frame_budget import FULL, Level, QualityLadder
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.workspace_renderer import RENDERERS, WorkspaceRenderer
 
 SIZE = (96, 64)
 

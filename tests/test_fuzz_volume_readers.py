@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from app.io.volume_formats import MAX_SIDE, FormatError, read_volume
-from app.model.volume_scalars import SCALAR_TYPES
+from app.model.volume.scalars import SCALAR_TYPES
 
 EXAMPLES = 1000  # per reader
 MAX_BYTES = 1 << 20

@@ -1,16 +1,16 @@
-"""The baseline GL state the host restores around every workspace's frame (app/gl/gl_state.py), and its debug mode,
+"""The baseline GL state the host restores around every workspace's frame (app/gl/core/gl_state.py), and its debug mode,
 which names what a renderer left behind and any GL error it left queued."""
 from __future__ import annotations
 
 import moderngl
 import pytest
 
-from app.gl import gl_state
-from app.gl.gl_state import GLStateError
-from app.gl.headless import OffscreenTarget
-from app.gl.renderer_base import WorkspaceRendererBase
-from app.gl.stencil import GL
-from app.gl.workspace_renderer import RENDERERS, WorkspaceRenderer
+from app.gl.core import gl_state
+from app.gl.core.gl_state import GLStateError
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.renderer_base import WorkspaceRendererBase
+from app.gl.core.stencil import GL
+from app.gl.core.workspace_renderer import RENDERERS, WorkspaceRenderer
 from app.model.workspace import Workspace
 
 

@@ -2,7 +2,7 @@
 import pytest
 from PySide6.QtGui import QOffscreenSurface, QOpenGLContext
 
-from app.gl.headless import ContextError, create_context, release_context
+from app.gl.core.headless import ContextError, create_context, release_context
 
 
 def test_a_current_qt_context_makes_create_context_refuse_clearly(qapp):

@@ -56,7 +56,7 @@ def test_lights_and_hulls_are_edited_by_commands(editor):
     ("lighting.view 0 0 0", "height > 0"),
     ("r_shadowMethod magic", "r_shadowMethod must be one of"),
     ("lighting.sample nowhere", "no sample scene"),
-    # what no scene file holds (app/io/scene2d.py), so every scene made by commands saves and loads again
+    # what no scene file holds (app/io/lighting2d_scene.py), so every scene made by commands saves and loads again
     ("light.add point 2e6 0", "light position must be within -1e+06..1e+06"),
     ("light.set 0 scale 1e7 1", "light scale must be within -1e+06..1e+06"),
     ("light.set 0 ignored_hulls 4096", "hull numbers 0..4095"),

@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from app.gl.lighting2d import Lighting2DRenderer, Shading2D
-from app.gl.shaders import ShaderLibrary
-from app.io import scene2d
+from app.gl.lighting2d.renderer import Lighting2DRenderer, Shading2D
+from app.gl.core.shaders import ShaderLibrary
+from app.io import lighting2d_scene as scene2d
 from app.model.camera2d import Camera2D
-from app.model.lighting2d import Hull, Light, Scene2D, inside_convex, outlines_overlap
-from app.model.lighting2d_index import SceneIndex
+from app.model.lighting2d.scene import Hull, Light, Scene2D, inside_convex, outlines_overlap
+from app.model.lighting2d.index import SceneIndex
 from app.reference import lighting2d as reference
 from app.reference.lighting2d_disc import hidden_share
 from app.resources import SCENES, SHADERS

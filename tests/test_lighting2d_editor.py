@@ -8,8 +8,8 @@ from PySide6.QtGui import QImage, QMouseEvent
 from PySide6.QtWidgets import QApplication
 
 from app.bench.lighting2d import OFFVIEW_HULLS, offview_scene
-from app.model.lighting2d import Hull
-from app.model.lighting2d_index import SceneIndex
+from app.model.lighting2d.scene import Hull
+from app.model.lighting2d.index import SceneIndex
 
 
 def panel(window):

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from app.io import scene2d
-from app.model.lighting2d import Hull, Light, Lighting2DError, Scene2D, outlines_overlap, signed_area, validity
+from app.io import lighting2d_scene as scene2d
+from app.model.lighting2d.scene import Hull, Light, Lighting2DError, Scene2D, outlines_overlap, signed_area, validity
 
 SQUARE = [(0, 0), (1, 0), (1, 1), (0, 1)]
 

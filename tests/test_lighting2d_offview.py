@@ -8,12 +8,12 @@ import pytest
 
 from app.bench.harness import Timing
 from app.bench.lighting2d import OFFVIEW_HULLS, offscreen_rows, offview_scene
-from app.gl.headless import OffscreenTarget
-from app.gl.lighting2d import Shading2D
-from app.gl.lighting2d_workspace import Lighting2DWorkspaceRenderer
-from app.gl.shaders import ShaderLibrary
-from app.model.lighting2d import Hull
-from app.model.lighting2d_workspace import Lighting2DWorkspace
+from app.gl.core.headless import OffscreenTarget
+from app.gl.lighting2d.renderer import Shading2D
+from app.gl.lighting2d.workspace import Lighting2DWorkspaceRenderer
+from app.gl.core.shaders import ShaderLibrary
+from app.model.lighting2d.scene import Hull
+from app.model.lighting2d.workspace import Lighting2DWorkspace
 from app.resources import SHADERS
 
 SIZE = (128, 80)

@@ -4,13 +4,13 @@ never timed; the frames are compared as pixels."""
 import numpy as np
 import pytest
 
-from app.gl.headless import OffscreenTarget
-from app.gl.lighting2d import Shading2D
-from app.gl.lighting2d_overlay import ICON_LINES, ICON_PX, ICON_RIM, icons_in
-from app.gl.lighting2d_workspace import Lighting2DWorkspaceRenderer
-from app.gl.shaders import ShaderLibrary
-from app.model.lighting2d import Hull, Light, Scene2D
-from app.model.lighting2d_workspace import Lighting2DWorkspace
+from app.gl.core.headless import OffscreenTarget
+from app.gl.lighting2d.renderer import Shading2D
+from app.gl.lighting2d.overlay import ICON_LINES, ICON_PX, ICON_RIM, icons_in
+from app.gl.lighting2d.workspace import Lighting2DWorkspaceRenderer
+from app.gl.core.shaders import ShaderLibrary
+from app.model.lighting2d.scene import Hull, Light, Scene2D
+from app.model.lighting2d.workspace import Lighting2DWorkspace
 from app.resources import SHADERS
 
 SIZE = (128, 96)

@@ -11,9 +11,9 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from app.console.demo import VirtualClock
 from app.console.text import number
 from app.editor import Editor
-from app.model import lights3d as lm
-from app.model.lights3d import Lights3DCamera, default_scene
-from app.model.lights3d_render_settings import Lights3DRenderSettings
+from app.model.lights3d import scene as lm
+from app.model.lights3d.scene import Lights3DCamera, default_scene
+from app.model.lights3d.render_settings import Lights3DRenderSettings
 
 
 @pytest.fixture

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings, strategies as st
 
-from app.gl.lights3d_overlay import gizmo_marks
-from app.model.lights3d import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
-from app.model.lights3d_gizmo import (HANDLE_FRACTION, drag_along, gizmo_axes, handle_length, hit_axis, pick_light,
+from app.gl.lights3d.overlay import gizmo_marks
+from app.model.lights3d.scene import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
+from app.model.lights3d.gizmo import (HANDLE_FRACTION, drag_along, gizmo_axes, handle_length, hit_axis, pick_light,
                                       pick_object, project)
 
 SIZE = (320, 200)

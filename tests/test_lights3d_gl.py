@@ -7,17 +7,17 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from app.gl.headless import OffscreenTarget
-from app.gl.light_reach import reaches
-from app.gl.lights3d import Lights3DRenderer
-from app.gl.lights3d_volumes import build
-from app.gl.lights3d_workspace import Lights3DWorkspaceRenderer
-from app.gl.shaders import ShaderLibrary
-from app.gl.stencil import GL
-from app.gl.workspace_renderer import RENDERERS
-from app.model.lights3d import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
-from app.model.lights3d_render_settings import Lights3DRenderSettings as Settings
-from app.model.lights3d_workspace import Lights3DWorkspace
+from app.gl.core.headless import OffscreenTarget
+from app.gl.lights3d.light_reach import reaches
+from app.gl.lights3d.renderer import Lights3DRenderer
+from app.gl.lights3d.caster_volumes import build
+from app.gl.lights3d.workspace import Lights3DWorkspaceRenderer
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.core.stencil import GL
+from app.gl.core.workspace_renderer import RENDERERS
+from app.model.lights3d.scene import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
+from app.model.lights3d.render_settings import Lights3DRenderSettings as Settings
+from app.model.lights3d.workspace import Lights3DWorkspace
 from app.reference import lights3d as reference
 from app.resources import SHADERS
 from tests.gl_state import differences, snapshot
@@ -26,7 +26,7 @@ SIZE = (128, 96)
 CLOSE = Lights3DCamera(distance=250.0)  # the default scene filling more of the view
 STENCIL_METHODS = ("onepass", "zpass", "zfail")
 SUN = Light3D("directional", (0, 120, 0), (-0.3, -1.0, 0.5), (0.35, 0.3, 0.25))
-NO_BIAS = Settings(bias=0.0)  # back faces in the map: closed casters need none (see app/gl/shadow_map.py)
+NO_BIAS = Settings(bias=0.0)  # back faces in the map: closed casters need none (see app/gl/lights3d/shadow_map.py)
 
 
 def unbind_and_release(gl, target: OffscreenTarget) -> None:

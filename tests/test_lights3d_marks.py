@@ -3,10 +3,10 @@ and the objects, its box on screen, and the markers and gizmo cut at the near pl
 import numpy as np
 import pytest
 
-from app.gl.light_reach import frustum_planes, light_in_view, reach_box, reaches, screen_rect
-from app.gl.lights3d_overlay import AXIS_COLOURS, HIGHLIGHT, overlay_vertices
-from app.model.lights3d import Light3D, Lights3DCamera, default_scene
-from app.model.lights3d_gizmo import Projection
+from app.gl.lights3d.light_reach import frustum_planes, light_in_view, reach_box, reaches, screen_rect
+from app.gl.lights3d.overlay import AXIS_COLOURS, HIGHLIGHT, overlay_vertices
+from app.model.lights3d.scene import Light3D, Lights3DCamera, default_scene
+from app.model.lights3d.gizmo import Projection
 
 CAMERA = Lights3DCamera(distance=250.0)
 SIZE = (128, 96)

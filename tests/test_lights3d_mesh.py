@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from app.model import mesh3d
-from app.model.mesh3d import Mesh, MeshError
+from app.model.lights3d import mesh as mesh3d
+from app.model.lights3d.mesh import Mesh, MeshError
 
 LENGTH = st.floats(0.5, 400.0)
 SEGMENTS = st.integers(mesh3d.MIN_SEGMENTS, 48)

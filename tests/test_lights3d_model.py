@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from app.model import lights3d as lm
+from app.model.lights3d import scene as lm
 from app.model.camera3d import OrbitCamera
-from app.model.lights3d import Light3D, Lights3DCamera, Lights3DError, Object3D, Scene3D, default_scene
+from app.model.lights3d.scene import Light3D, Lights3DCamera, Lights3DError, Object3D, Scene3D, default_scene
 
 
 @pytest.mark.parametrize("kwargs, needle", [

@@ -12,9 +12,9 @@ from hypothesis import given, settings, strategies as st
 from app.console.demo import VirtualClock
 from app.console.text import number
 from app.editor import Editor
-from app.model.lights3d import DEFAULT_SIZES, Lights3DCamera, Object3D, Scene3D, default_scene, new_object
-from app.model.lights3d_gizmo import project
-from app.model.lights3d_placement import GAP, ground_spot
+from app.model.lights3d.scene import DEFAULT_SIZES, Lights3DCamera, Object3D, Scene3D, default_scene, new_object
+from app.model.lights3d.gizmo import project
+from app.model.lights3d.placement import GAP, ground_spot
 
 VIEWS = [(320, 200), (200, 320)]  # a wide view and a tall one
 

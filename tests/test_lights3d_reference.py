@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from app.model import lights3d as lm
-from app.model import mesh3d
-from app.model.lights3d import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
+from app.model.lights3d import scene as lm
+from app.model.lights3d import mesh as mesh3d
+from app.model.lights3d.scene import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
 from app.reference import lights3d as ref
 
 GROUND = Object3D("plane", (400.0,), (0.0, 0.0, 0.0), (0.8, 0.8, 0.8))

@@ -8,8 +8,8 @@ from hypothesis import strategies as st
 
 from app.io import json_file, lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
-from app.model import lights3d as lm
-from app.model.lights3d import Light3D, Object3D, Scene3D, default_scene
+from app.model.lights3d import scene as lm
+from app.model.lights3d.scene import Light3D, Object3D, Scene3D, default_scene
 
 
 def saved(tmp_path, scene=None) -> dict:

@@ -10,8 +10,8 @@ from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtWidgets import QApplication, QPushButton
 
 from app.console.text import number
-from app.model.lights3d import Lights3DCamera
-from app.model.lights3d_gizmo import gizmo_axes, pick_light, pick_object, project
+from app.model.lights3d.scene import Lights3DCamera
+from app.model.lights3d.gizmo import gizmo_axes, pick_light, pick_object, project
 
 
 def reset(window) -> None:

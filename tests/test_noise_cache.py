@@ -8,8 +8,8 @@ import os
 import numpy as np
 import pytest
 
-from app.io import noise_cache
-from app.io.noise_cache import cache_path, load_or_build
+from app.io.clouds import noise_cache
+from app.io.clouds.noise_cache import cache_path, load_or_build
 
 SHAPE = (4, 4, 4)
 

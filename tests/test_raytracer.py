@@ -2,14 +2,14 @@
 import numpy as np
 import pytest
 
-from app.gl.headless import OffscreenTarget
-from app.gl.raytracer import RayTracer, TraceSettings
-from app.gl.shaders import ShaderLibrary
+from app.gl.core.headless import OffscreenTarget
+from app.gl.volume.raytracer import RayTracer, TraceSettings
+from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
-from app.model.render_modes import MODES
-from app.model.volume import Volume
-from app.model.volume_samples import coords3d, cornell_box
-from app.model.volume_view import VolumeView
+from app.model.volume.render_modes import MODES
+from app.model.volume.volume import Volume
+from app.model.volume.samples import coords3d, cornell_box
+from app.model.volume.view import VolumeView
 from app.reference.volume import Scene, render as reference
 from app.resources import SHADERS
 
@@ -119,7 +119,7 @@ def test_distance_skipping_takes_fewer_samples(gl, tracer):
 
 
 def test_distance_texture_clamps_after_an_edit_and_refines_when_idle(gl, tracer):
-    from app.gl.raytracer import DistanceTexture, distance_field
+    from app.gl.volume.raytracer import DistanceTexture, distance_field
 
     volume = Volume(cornell_box(32))
     texture = DistanceTexture(gl)

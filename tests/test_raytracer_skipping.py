@@ -4,11 +4,11 @@ volumes and cameras, and again after strokes and erasures while the distance fie
 import numpy as np
 import pytest
 
-from app.gl.headless import OffscreenTarget
-from app.gl.raytracer import RayTracer, TraceSettings
-from app.gl.shaders import ShaderLibrary
-from app.model.volume import Volume
-from app.model.volume_view import VolumeView
+from app.gl.core.headless import OffscreenTarget
+from app.gl.volume.raytracer import RayTracer, TraceSettings
+from app.gl.core.shaders import ShaderLibrary
+from app.model.volume.volume import Volume
+from app.model.volume.view import VolumeView
 from app.resources import SHADERS
 from tests.sparse_volumes import KINDS, random_camera, random_edit, random_steps, sparse_volume
 

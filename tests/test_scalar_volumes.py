@@ -13,13 +13,13 @@ import tifffile
 
 from app.console.demo import VirtualClock
 from app.editor import Editor
-from app.gl.raytracer import RayTracer
-from app.gl.shaders import ShaderLibrary
+from app.gl.volume.raytracer import RayTracer
+from app.gl.core.shaders import ShaderLibrary
 from app.io.volume_formats import read_volume
-from app.model import volume as vm
-from app.model.render_modes import TraceSettings
-from app.model.volume_scalars import COLORMAPS, TransferFunction, colour, default_window
-from app.model.volume_view import VolumeView
+from app.model.volume import volume as vm
+from app.model.volume.render_modes import TraceSettings
+from app.model.volume.scalars import COLORMAPS, TransferFunction, colour, default_window
+from app.model.volume.view import VolumeView
 from app.resources import SHADERS
 
 SHAPE = (16, 18, 20)  # depth, height, width: no two sides alike

@@ -6,7 +6,8 @@ import os
 import pytest
 
 from app.editor import Editor
-from app.io import json_file, scene2d, snowflake_scene
+from app.io import json_file, snowflake_scene
+from app.io import lighting2d_scene as scene2d
 from app.resources import SCENES
 
 SAMPLE = json.loads((SCENES / "j_concave_three_lights.json").read_text())  # three lights, three hulls

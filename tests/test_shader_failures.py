@@ -5,8 +5,8 @@ import shutil
 import numpy as np
 import pytest
 
-from app.gl.shaders import ShaderLibrary
-from app.gl.snowflake import SnowflakeRenderer
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.snowflake.renderer import SnowflakeRenderer
 from app.model.camera2d import Camera2D
 from app.model.snowflake import SnowflakeScene
 from app.reference.snowflake import segments

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from app.gl.shader_source import (
+from app.gl.core.shader_source import (
     GSLimits,
     Origin,
     ShaderError,

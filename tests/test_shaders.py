@@ -9,8 +9,8 @@ import moderngl
 import numpy as np
 import pytest
 
-from app.gl.shader_source import ShaderError
-from app.gl.shaders import ShaderLibrary, query_gs_limits
+from app.gl.core.shader_source import ShaderError
+from app.gl.core.shaders import ShaderLibrary, query_gs_limits
 
 VS = """#version 330
 in vec2 in_pos;

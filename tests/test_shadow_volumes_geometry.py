@@ -5,8 +5,8 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from app.gl.shadow_volumes import facing_light, onepass_volume, silhouette_volume
-from app.model import mesh3d
+from app.gl.lights3d.shadow_volumes import facing_light, onepass_volume, silhouette_volume
+from app.model.lights3d import mesh as mesh3d
 from tests.shadow_scenes import box, ground
 
 UNIT_BOX = box((-1, -1, -1), (1, 1, 1))

@@ -4,10 +4,10 @@ and grazing light. The numbers measured are printed (pytest -s); docs quote them
 import numpy as np
 import pytest
 
-from app.gl.shadow_volume_pass import METHODS, SHADOW_VALUE, ShadowVolumePass, shadowed, volume
-from app.gl.shadow_volumes import VolumeGeometry, onepass_volume
-from app.gl.shaders import ShaderLibrary
-from app.gl.stencil import GL, StencilTarget, clear_stencil
+from app.gl.lights3d.shadow_volume_pass import METHODS, SHADOW_VALUE, ShadowVolumePass, shadowed, volume
+from app.gl.lights3d.shadow_volumes import VolumeGeometry, onepass_volume
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.core.stencil import GL, StencilTarget, clear_stencil
 from app.resources import SHADERS
 from tests.gl_state import differences, snapshot
 from tests.shadow_scenes import box, cpu_shadow, ground, in_shadow, soup, view_proj

@@ -8,8 +8,8 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QImage, QSurfaceFormat
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
-from app.gl.headless import SAMPLES
-from app.gl.stencil import GL, StencilOps, StencilState, clear_stencil, stencil_state
+from app.gl.core.headless import SAMPLES
+from app.gl.core.stencil import GL, StencilOps, StencilState, clear_stencil, stencil_state
 from tests.gl_state import differences, snapshot
 
 QUAD_VS = "#version 330 core\nin vec2 in_xy;\nvoid main() { gl_Position = vec4(in_xy, 0.0, 1.0); }\n"

@@ -8,7 +8,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from app.gl.stencil import GL, StencilOps, StencilState, StencilTarget, clear_stencil, read_stencil, stencil_state
+from app.gl.core.stencil import GL, StencilOps, StencilState, StencilTarget, clear_stencil, read_stencil, stencil_state
 from tests.gl_state import differences, snapshot
 
 SIZE = (32, 16)  # not square: a transposed readback shows
@@ -155,9 +155,9 @@ def test_release_frees_every_gl_object(gl):
 
 PROBE = textwrap.dedent("""
     import os
-    from app.gl.headless import create_context, release_context
+    from app.gl.core.headless import create_context, release_context
     ctx = create_context()
-    from app.gl.stencil import GL, StencilTarget
+    from app.gl.core.stencil import GL, StencilTarget
     import OpenGL.platform
     target = StencilTarget(ctx, (8, 4))
     target.clear(stencil=0x3C)

@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from app.gl.headless import OffscreenTarget
-from app.gl.shaders import ShaderLibrary
-from app.gl.snowflake import CHUNK_DEPTH, SnowflakeRenderer, chunk_layout
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.snowflake.renderer import CHUNK_DEPTH, SnowflakeRenderer, chunk_layout
 from app.model.camera2d import Camera2D
 from app.model.snowflake import SnowflakeScene
 from app.reference.snowflake import segments

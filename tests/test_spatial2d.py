@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from app.model.spatial2d import GridIndex
+from app.model.lighting2d.spatial import GridIndex
 
 
 @pytest.mark.parametrize("n", [0, 1, 7, 2000])

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
-from app.model.volume_scalars import TransferFunction
+from app.model.volume.scalars import TransferFunction
 
 
 @pytest.fixture

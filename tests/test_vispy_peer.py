@@ -25,7 +25,7 @@ def test_vispy_average_matches_our_translucent_mean_in_place(tmp_path):
                           env={**os.environ, "EGL_PLATFORM": "surfaceless"}, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     image = np.load(out)["image"].astype(float)
-    from app.model.render_modes import MODES
+    from app.model.volume.render_modes import MODES
     from app.reference.volume import render
 
     ours = render(volume.data, cam, (64, 64), MODES[4], steps=256) * 255

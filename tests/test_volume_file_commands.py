@@ -7,7 +7,7 @@ import pytest
 from PIL import Image
 
 from app.io.volume_formats import write_volume
-from app.model import volume as vm
+from app.model.volume import volume as vm
 
 
 @pytest.fixture

@@ -22,7 +22,7 @@ from PIL import Image
 
 from app.io import atomic
 from app.io.volume_formats import SUPPORTED, FormatError, read_volume, read_volume_file, write_volume
-from app.model.volume_scalars import TransferFunction
+from app.model.volume.scalars import TransferFunction
 
 SHAPE = (3, 7, 5)  # depth, height, width: no two sides alike, so a transposed read cannot pass
 

@@ -3,15 +3,15 @@ import numpy as np
 import pytest
 
 from app.bench import harness, paint
-from app.gl.headless import OffscreenTarget
-from app.gl.shaders import ShaderLibrary
-from app.gl.raytracer import RayTracer, TraceSettings
-from app.gl.volume import VolumeTexture
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.volume.raytracer import RayTracer, TraceSettings
+from app.gl.volume.texture import VolumeTexture
 from app.model.camera3d import OrbitCamera
-from app.model.volume import Volume
-from app.model.volume_pick import first_hit
-from app.model.volume_samples import coords3d, cornell_box
-from app.model.volume_view import VolumeView
+from app.model.volume.volume import Volume
+from app.model.volume.pick import first_hit
+from app.model.volume.samples import coords3d, cornell_box
+from app.model.volume.view import VolumeView
 from app.resources import SHADERS
 
 

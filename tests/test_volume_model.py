@@ -8,9 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
-from app.model import volume as vm
-from app.model.volume import AXES, Box, Volume, VolumeError
-from app.model.volume_samples import coords3d
+from app.model.volume import volume as vm
+from app.model.volume.volume import AXES, Box, Volume, VolumeError
+from app.model.volume.samples import coords3d
 
 RED = (255, 0, 0, 255)
 BLUE = (0, 0, 255, 255)

@@ -4,7 +4,7 @@ background without a word."""
 from app.bench import WORKSPACE_TECHNIQUE
 from app.bench.frame_budget import MOVES
 from app.commands.workspaces import COMMANDS
-from app.gl.workspace_renderer import RENDERERS
+from app.gl.core.workspace_renderer import RENDERERS
 from app.model.workspaces import names
 from app.views.workspace_views import VIEWS
 

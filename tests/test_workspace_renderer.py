@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from app.editor import Editor
-from app.gl.headless import OffscreenTarget
-from app.gl.workspace_renderer import EMPTY_BACKGROUND, RENDERERS, WorkspaceRenderer
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.workspace_renderer import EMPTY_BACKGROUND, RENDERERS, WorkspaceRenderer
 from app.model.workspace import Workspace
 
 

@@ -13,8 +13,8 @@ from app.bench import WORKSPACE_TECHNIQUE
 from app.commands.workspaces import COMMANDS, WorkspaceCommands
 from app.console.demo import VirtualClock
 from app.editor import Editor
-from app.gl.renderer_base import WorkspaceRendererBase
-from app.gl.workspace_renderer import RENDERERS
+from app.gl.core.renderer_base import WorkspaceRendererBase
+from app.gl.core.workspace_renderer import RENDERERS
 from app.io.png import read_png
 from app.model.history import SnapshotHistory
 from app.model.workspace import Workspace, WorkspaceInfo, short_hash

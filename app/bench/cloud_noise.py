@@ -1,6 +1,6 @@
 """Wall time of the cloud noise textures at their product sizes (CPU, numpy): `python -m app.bench.cloud_noise`.
 
-Not a GL technique of the bench harness: the textures are made once and cached (app.io.noise_cache), so only
+Not a GL technique of the bench harness: the textures are made once and cached (app.io.clouds.noise_cache), so only
 their first build costs anything. Prints the best of --repeat runs of each.
 """
 from __future__ import annotations
@@ -9,7 +9,7 @@ import argparse
 import os
 import time
 
-from app.model import cloud_noise
+from app.model.clouds import noise as cloud_noise
 
 TEXTURES = (("shape", cloud_noise.shape_noise, 128), ("detail", cloud_noise.detail_noise, 32),
             ("curl", cloud_noise.curl_noise, 128))

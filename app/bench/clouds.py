@@ -29,7 +29,7 @@ from typing import Callable
 import numpy as np
 
 from app.bench.harness import Method, Row, Technique
-from app.model.clouds import CloudParams, CloudRenderSettings, CloudTextures, CloudView, frame
+from app.model.clouds.scene import CloudParams, CloudRenderSettings, CloudTextures, CloudView, frame
 
 KNOB = "steps"
 SCENE = "default"
@@ -105,7 +105,7 @@ class CloudScene:
 
     @cached_property
     def weather(self):
-        from app.model.clouds_workspace import CloudsWorkspace
+        from app.model.clouds.workspace import CloudsWorkspace
 
         return CloudsWorkspace().weather  # the workspace's first map, made on first use
 
@@ -113,7 +113,7 @@ class CloudScene:
         return frame(self.params, self.view, self.wind_time, 1.0)
 
     def textures(self) -> CloudTextures:
-        from app.io.cloud_textures import noise_textures
+        from app.io.clouds.textures import noise_textures
 
         noise = noise_textures()
         return CloudTextures(noise.shape, noise.detail, noise.curl, noise.cirrus, *self.weather.maps)
@@ -145,7 +145,7 @@ class Shared:
 
     def shaders(self, ctx):
         if self.ctx is not ctx:
-            from app.gl.shaders import ShaderLibrary
+            from app.gl.core.shaders import ShaderLibrary
             from app.resources import SHADERS
 
             self.ctx, self.library = ctx, ShaderLibrary(ctx, [SHADERS])
@@ -156,7 +156,7 @@ class CloudState:
     """One cloud renderer (its own histories) drawing into its own float targets."""
 
     def __init__(self, ctx, shared: Shared) -> None:
-        from app.gl.clouds import CloudRenderer
+        from app.gl.clouds.renderer import CloudRenderer
 
         self.ctx = ctx
         self.renderer = CloudRenderer(ctx, shared.shaders(ctx))
@@ -172,7 +172,7 @@ class CloudState:
 
     def draw(self, scene: CloudScene, settings: CloudRenderSettings, size: tuple[int, int],
              name: str = "colour") -> FloatTarget:
-        from app.io.cloud_textures import noise_textures
+        from app.io.clouds.textures import noise_textures
 
         target = self.target(size, name)
         self.renderer.render(target.fbo, scene.frame(), scene.weather, settings, noise_textures())

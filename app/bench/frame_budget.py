@@ -15,8 +15,8 @@ from typing import Callable
 import numpy as np
 
 from app.editor import Editor
-from app.gl.headless import OffscreenTarget
-from app.gl.workspace_renderer import RENDERERS, WorkspaceRenderer
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.workspace_renderer import RENDERERS, WorkspaceRenderer
 from app.io.atomic import write_text
 
 # The viewport of the editor's default 1400x860 window with its docks (measured under Xvfb; the volume's wider

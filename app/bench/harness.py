@@ -11,7 +11,7 @@ from typing import Any, Callable, Sequence
 import moderngl
 import numpy as np
 
-from app.gl.headless import OffscreenTarget
+from app.gl.core.headless import OffscreenTarget
 
 CSV_COLUMNS = ("technique", "method", "knob_name", "knob", "scene", "width", "height",
                "ms_median", "gpu_ms_median", "runs", "rmse", "max_abs_error")

@@ -17,12 +17,12 @@ import math
 import numpy as np
 
 from app.bench.harness import Method, Row, Technique, errors, frame_timings
-from app.gl.headless import OffscreenTarget
-from app.gl.lighting2d import Lighting2DRenderer, Shading2D
-from app.gl.shaders import ShaderLibrary
-from app.io import scene2d
+from app.gl.core.headless import OffscreenTarget
+from app.gl.lighting2d.renderer import Lighting2DRenderer, Shading2D
+from app.gl.core.shaders import ShaderLibrary
+from app.io import lighting2d_scene as scene2d
 from app.model.camera2d import Camera2D
-from app.model.lighting2d import Hull, Light, Scene2D
+from app.model.lighting2d.scene import Hull, Light, Scene2D
 from app.reference import lighting2d as reference
 from app.resources import SCENES, SHADERS
 
@@ -128,7 +128,7 @@ def peer_scene(lights: int, hulls: int, size=(1280, 720), seed: int = 7):
 
 def extra_rows(quick: bool, size, runs: int, progress) -> list[Row]:
     from app.bench import pygame_light2d_peer as peer
-    from app.gl.headless import create_context
+    from app.gl.core.headless import create_context
 
     rows = []
     ctx = create_context()
@@ -187,8 +187,8 @@ def offscreen_rows(ctx, size, rounds: int, progress) -> list[Row]:
     (`exact`) and the editor's whole frame, its overlay included (`exact+overlay`). Each of the four has its
     own renderer (one renderer would rebuild its index at every change of scene) and their frames take
     turns, so that a busy machine slows them alike; the rows carry each frame's work beside its times."""
-    from app.gl.lighting2d_workspace import Lighting2DWorkspaceRenderer
-    from app.model.lighting2d_workspace import Lighting2DWorkspace
+    from app.gl.lighting2d.workspace import Lighting2DWorkspaceRenderer
+    from app.model.lighting2d.workspace import Lighting2DWorkspace
 
     settings = Shading2D(method=DEFAULT)
     target = OffscreenTarget(ctx, size)

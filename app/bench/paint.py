@@ -13,8 +13,8 @@ from app.bench.harness import Method, Technique
 from app.commands import volume as volume_commands
 from app.console.console import Console
 from app.console.demo import ArgChecks
-from app.gl.volume import VolumeTexture
-from app.model.volume_workspace import VolumeWorkspace
+from app.gl.volume.texture import VolumeTexture
+from app.model.volume.workspace import VolumeWorkspace
 
 SIZES = (1, 4, 16, 64)
 QUICK_SIZES = (1, 16)

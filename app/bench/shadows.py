@@ -4,8 +4,8 @@ and what it costs.
 The scene is the 3D lights' default one (seed 004's point and spot light over a ground with five objects) seen
 from 250 units; its sphere and torus are tessellated finer for the `triangles` knob (half the requested
 triangles each). Per method and setting:
-- `ms_median`: a whole frame (app/gl/lights3d.py) with both lights shadowed that way, their volumes and maps made
-  anew each frame, as when a light or an object moves; `still_ms`: the frame with them kept (the view moves);
+- `ms_median`: a whole frame (app/gl/lights3d/renderer.py) with both lights shadowed that way, their volumes and maps
+  made anew each frame, as when a light or an object moves; `still_ms`: the frame with them kept (the view moves);
 - `mismatch_pct`: the pixels whose shadow differs from the reference's (`facing & ~visible`), over the pixels a
   light faces and reaches, both lights together (Lights3DRenderer.shadow_mask: the stencil, or under half the
   map's PCF taps seeing the light); `mismatch_off_edge_pct`: those not within 1 px of a shadow edge of the
@@ -29,10 +29,10 @@ import numpy as np
 from scipy import ndimage
 
 from app.bench.harness import Method, Technique, time_frames
-from app.gl.light_reach import reaches
-from app.model import mesh3d
-from app.model.lights3d import Lights3DCamera, Scene3D, default_scene
-from app.model.lights3d_render_settings import Lights3DRenderSettings
+from app.gl.lights3d.light_reach import reaches
+from app.model.lights3d import mesh as mesh3d
+from app.model.lights3d.scene import Lights3DCamera, Scene3D, default_scene
+from app.model.lights3d.render_settings import Lights3DRenderSettings
 
 SCENE = "default"
 CAMERA = Lights3DCamera(distance=250.0)
@@ -100,8 +100,8 @@ class Shared:
 
     def renderer_for(self, ctx):
         if self.ctx is not ctx:
-            from app.gl.lights3d import Lights3DRenderer
-            from app.gl.shaders import ShaderLibrary
+            from app.gl.lights3d.renderer import Lights3DRenderer
+            from app.gl.core.shaders import ShaderLibrary
             from app.resources import SHADERS
 
             self.ctx, self.renderer = ctx, Lights3DRenderer(ctx, ShaderLibrary(ctx, [SHADERS]))

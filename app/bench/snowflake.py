@@ -10,9 +10,9 @@ import math
 import numpy as np
 
 from app.bench.harness import Method, Technique
-from app.gl.lines2d import Lines2D
-from app.gl.shaders import ShaderLibrary
-from app.gl.snowflake import BACKGROUND, LINE_COLOR, SnowflakeRenderer
+from app.gl.core.lines2d import Lines2D
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.snowflake.renderer import BACKGROUND, LINE_COLOR, SnowflakeRenderer
 from app.model.camera2d import Camera2D
 from app.model.snowflake import SnowflakeScene
 from app.reference.snowflake import segments

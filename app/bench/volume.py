@@ -14,13 +14,13 @@ from functools import lru_cache
 import numpy as np
 
 from app.bench.harness import Method, Technique
-from app.gl.raytracer import RayTracer, TraceSettings
-from app.gl.shaders import ShaderLibrary
+from app.gl.volume.raytracer import RayTracer, TraceSettings
+from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
-from app.model.render_modes import MODES
-from app.model.volume import Volume
-from app.model.volume_samples import coords3d, cornell_box
-from app.model.volume_view import VolumeView
+from app.model.volume.render_modes import MODES
+from app.model.volume.volume import Volume
+from app.model.volume.samples import coords3d, cornell_box
+from app.model.volume.view import VolumeView
 from app.reference.volume import render as reference_render
 from app.resources import SHADERS
 

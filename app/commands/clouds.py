@@ -10,13 +10,13 @@ from app.console.demo import ArgChecks
 from app.console.quoting import quote
 from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import number
-from app.io import clouds_scene
-from app.io.clouds_scene import MAX_SEED, CloudScene, CloudSceneError
-from app.io.weather_image import WeatherError, load_weather
-from app.model.cloud_weather import resample, weather_map
-from app.model.clouds import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
+from app.io.clouds import scene_file as clouds_scene
+from app.io.clouds.scene_file import MAX_SEED, CloudScene, CloudSceneError
+from app.io.clouds.weather_image import WeatherError, load_weather
+from app.model.clouds.weather import resample, weather_map
+from app.model.clouds.scene import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
                               sun_at_hour)
-from app.model.clouds_workspace import MAX_TIME, WEATHER_SIZE, CloudsWorkspace, check_times
+from app.model.clouds.workspace import MAX_TIME, WEATHER_SIZE, CloudsWorkspace, check_times
 from app.model.workspace import SceneFiles
 
 # The cvars of the optimisations, each switching one off (docs/clouds.md, "Optimisations").

@@ -14,12 +14,12 @@ from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import count, number
-from app.io import scene2d as scene_file
+from app.io import lighting2d_scene as scene_file
 from app.io.json_file import storable
 from app.io.textures2d import BUILTIN, image
-from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D, \
+from app.model.lighting2d.scene import LIGHT_KINDS, SHADOW_METHODS as METHODS, Hull, Light, Lighting2DError, Scene2D, \
     Shading2D, centroid
-from app.model.lighting2d_workspace import HULL_KEYS, Lighting2DWorkspace, fmt
+from app.model.lighting2d.workspace import HULL_KEYS, Lighting2DWorkspace, fmt
 from app.model.history import setting_name
 from app.model.workspace import SceneFiles
 from app.resources import SCENES

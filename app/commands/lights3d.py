@@ -13,12 +13,12 @@ from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.console.text import count, number
 from app.io import lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
-from app.model.lights3d import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
+from app.model.lights3d.scene import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
                                 Scene3D, default_scene, new_object)
-from app.model.lights3d_placement import ground_spot
-from app.model.lights3d_render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
+from app.model.lights3d.placement import ground_spot
+from app.model.lights3d.render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
                                                 Lights3DRenderSettings)
-from app.model.lights3d_workspace import ITEM_KINDS, Lights3DWorkspace
+from app.model.lights3d.workspace import ITEM_KINDS, Lights3DWorkspace
 from app.model.history import setting_name
 from app.model.workspace import SceneFiles
 

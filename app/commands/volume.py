@@ -12,14 +12,14 @@ from app.console.demo import ArgChecks
 from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
                                    write_volume)
-from app.model import volume as volume_model
+from app.model.volume import volume as volume_model
 from app.model.camera3d import OrbitCamera
-from app.model.render_modes import LIGHTS, MODES, TraceSettings
-from app.model.volume import AXES, MAX_COORD, MAX_SIDE, Volume
-from app.model.volume_samples import SAMPLES, make
-from app.model.volume_scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
+from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
+from app.model.volume.volume import AXES, MAX_COORD, MAX_SIDE, Volume
+from app.model.volume.samples import SAMPLES, make
+from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
                                       default_window, value_range)
-from app.model.volume_workspace import VolumeWorkspace
+from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
 MAX_SAMPLE = 512

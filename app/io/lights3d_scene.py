@@ -2,7 +2,7 @@
 {"format": "shadelab.lights3d", "version": 1, "ambient": [r, g, b], "shininess": s, "specular": k,
  "objects": [{"kind", "size": [...], "position": [x, y, z], "colour": [r, g, b]}],
  "lights": [{"kind", "position", "direction", "colour", "range", "falloff", "angle", "shadow"}]}.
-A missing optional field takes the model's default (app/model/lights3d.py)."""
+A missing optional field takes the model's default (app/model/lights3d/scene.py)."""
 from __future__ import annotations
 
 import json
@@ -10,8 +10,8 @@ import os
 
 from app.io import json_file as jf
 from app.io.atomic import write_text
-from app.model import lights3d as lm
-from app.model.lights3d import Light3D, Lights3DError, Object3D, Scene3D
+from app.model.lights3d import scene as lm
+from app.model.lights3d.scene import Light3D, Lights3DError, Object3D, Scene3D
 
 FORMAT = "shadelab.lights3d"
 VERSION = 1

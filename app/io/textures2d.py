@@ -11,7 +11,7 @@ import numpy as np
 
 from app.io.regular_file import read_regular_bytes
 from app.io.png import decode_png
-from app.model.lighting2d import Lighting2DError
+from app.model.lighting2d.scene import Lighting2DError
 
 BUILTIN = "builtin:"
 MAX_IMAGE_BYTES = 64 << 20  # a file, before decoding; app.io.png caps the decoded image at MAX_PIXELS (256 MiB)

@@ -10,7 +10,7 @@ Greyscale arrays (.npy, TIFF, NRRD) of uint8 values are densities: grey goes int
 where the voxel is non-zero, 0 elsewhere, so empty space stays clear. Greyscale arrays of the other integer types
 or floats (SCALAR_TYPES: int8 and 16- and 32-bit integers, floats; CT, MRI, microscopy) are scalars: the
 reader returns them as they are, (depth, height, width) in native byte order, and the model colours them
-through a transfer function (app/model/volume_scalars.py); their size counts the colours they become, 4 bytes a
+through a transfer function (app/model/volume/scalars.py); their size counts the colours they become, 4 bytes a
 voxel, besides their own. The array formats also write scalars;
 NRRD keeps their window and colour map too, in a key/value field of its header (read_volume_file).
 Greyscale *images* in a series are pictures: they get alpha 255 unless the image itself says which pixels are
@@ -44,7 +44,7 @@ from PIL import Image, UnidentifiedImageError
 from app.io.atomic import Batch, write_bytes
 from app.io.json_file import array, read_versioned, validator
 from app.io.regular_file import open_regular
-from app.model.volume_scalars import SCALAR_TYPES, TransferFunction
+from app.model.volume.scalars import SCALAR_TYPES, TransferFunction
 
 MAX_SIDE = 4096
 DEFAULT_MAX_BYTES = 2 * 2**30

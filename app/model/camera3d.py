@@ -1,6 +1,6 @@
 """An orbit camera around a centre (the origin here): yaw and pitch in degrees, a distance, a vertical field of
 view. The distance limits and the clip planes are class attributes, so a workspace of another scale subclasses
-the camera with its own (app/model/lights3d.py: Lights3DCamera)."""
+the camera with its own (app/model/lights3d/scene.py: Lights3DCamera)."""
 from __future__ import annotations
 
 import math

@@ -1,11 +1,11 @@
 """The model layer's mapping: every workspace, in switcher order, with the class of its state."""
 from __future__ import annotations
 
-from app.model.clouds_workspace import CloudsWorkspace
-from app.model.lighting2d_workspace import Lighting2DWorkspace
-from app.model.lights3d_workspace import Lights3DWorkspace
+from app.model.clouds.workspace import CloudsWorkspace
+from app.model.lighting2d.workspace import Lighting2DWorkspace
+from app.model.lights3d.workspace import Lights3DWorkspace
 from app.model.snowflake_workspace import SnowflakeWorkspace
-from app.model.volume_workspace import VolumeWorkspace
+from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import WorkspaceInfo
 
 WORKSPACES: list[WorkspaceInfo] = [

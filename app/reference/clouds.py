@@ -1,7 +1,7 @@
 """Float64 CPU reference of the volumetric clouds (docs/clouds.md, "The model"), numpy only.
 
 The same model as the GPU shader (resources/shaders/clouds.shl), from the same per-frame constants
-(app.model.clouds.frame), written out literally: rays, the segment marched, the density and light
+(app.model.clouds.scene.frame), written out literally: rays, the segment marched, the density and light
 (app/reference/clouds_medium.py), the integration, the cirrus, the ground and the sky. All the rays of an
 image march in lockstep over the step index k, a block of steps at a time, with masks for the rays whose
 segment has ended (or that have no clouds); the light march runs only at the samples with rho > 0.
@@ -15,8 +15,8 @@ from typing import Callable
 
 import numpy as np
 
-from app.model import clouds as cm
-from app.model.clouds import CloudParams, CloudTextures, CloudView, Frame
+from app.model.clouds import scene as cm
+from app.model.clouds.scene import CloudParams, CloudTextures, CloudView, Frame
 from app.reference.clouds_medium import (CENTRE, R0, R1, density, f64, height, hg, light, light_lookups, phase,
                                          sample2d, sample3d, weather)
 
@@ -25,7 +25,7 @@ __all__ = ["Image", "render", "sample2d", "sample3d", "ray_directions", "segment
 
 R = cm.PLANET_RADIUS
 RC = cm.PLANET_RADIUS + cm.CIRRUS_ALTITUDE
-# The spec's literals that app.model.clouds does not name.
+# The spec's literals that app.model.clouds.scene does not name.
 EARLY_EXIT = 0.99                       # r_cloudEarlyExit: stop once 1 - T > 0.99
 CIRRUS_GAIN, CIRRUS_AMBIENT, CIRRUS_SUN, CIRRUS_MAX = 2.0, 1.5, 0.2, 0.7
 HAZE = 30_000.0                         # the ground's haze distance, metres

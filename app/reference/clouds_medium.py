@@ -1,7 +1,7 @@
 """The clouds reference's medium: GL texture sampling, the density rho(p) and the light S at a sample, float64.
 
 docs/clouds.md, "The model": "Textures and sampling", "Density" and "Light", written out literally; every
-per-frame number comes from an app.model.clouds.Frame. app/reference/clouds.py marches rays through it and
+per-frame number comes from an app.model.clouds.scene.Frame. app/reference/clouds.py marches rays through it and
 re-exports these functions. Points are (..., 3) arrays; every function works on any number of them at once.
 """
 from __future__ import annotations
@@ -10,13 +10,13 @@ import math
 
 import numpy as np
 
-from app.model import clouds as cm
-from app.model.clouds import CloudTextures, Frame
+from app.model.clouds import scene as cm
+from app.model.clouds.scene import CloudTextures, Frame
 
 CENTRE = np.array([0.0, -cm.PLANET_RADIUS, 0.0])
 R0 = cm.PLANET_RADIUS + cm.LAYER_BOTTOM
 R1 = cm.PLANET_RADIUS + cm.LAYER_TOP
-# The spec's literals that app.model.clouds does not name.
+# The spec's literals that app.model.clouds.scene does not name.
 FADE_TOP, FADE_POWER = 1.2, 0.1       # the shape's height fade (1.2 - h)^0.1
 FLAT_SHAPE = 0.7                      # the shape sample with shape_noise 0
 DETAIL_RAMP = 10.0                    # m = mix(1 - e, e, clamp(10 h, 0, 1))

@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from app.model.lighting2d import Light, Scene2D, inside_convex
-from app.model.lighting2d_index import SceneIndex
+from app.model.lighting2d.scene import Light, Scene2D, inside_convex
+from app.model.lighting2d.index import SceneIndex
 from app.reference.lighting2d_disc import hidden_share
 from app.reference.lighting2d_light import light_value, normal_factor, pixel_world, textures_for
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from app.io.textures2d import image
-from app.model.lighting2d import Light, Scene2D
+from app.model.lighting2d.scene import Light, Scene2D
 
 
 def pixel_world(view, width: int, height: int, flip_y: bool = False) -> np.ndarray:

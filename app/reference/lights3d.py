@@ -2,7 +2,7 @@
 
 One primary ray per pixel centre, from the camera's own projection (OrbitCamera.ray's unprojection, near and
 far planes included), so a GL rasterisation of the same camera covers the same pixels; then, per light, one
-shadow ray from each surface point. The light formulas are app.model.lights3d's (its docstring writes them out).
+shadow ray from each surface point. The light formulas are app.model.lights3d.scene's (its docstring writes them out).
 
 Every hit is an exact Moller-Trumbore test in float64, but no ray meets every triangle: rays and triangles are
 binned into cells so that a ray can only hit the triangles binned in its own cell (conservative bounds, so the
@@ -25,9 +25,9 @@ from typing import Iterator
 
 import numpy as np
 
-from app.model import lights3d as lm
+from app.model.lights3d import scene as lm
 from app.model.camera3d import OrbitCamera
-from app.model.lights3d import Scene3D
+from app.model.lights3d.scene import Scene3D
 
 CHUNK = 1 << 17          # ray-triangle pairs tested at once
 BARY_TOL = 1e-10         # barycentric slack: a ray through a shared edge hits at least one of its triangles

@@ -1,4 +1,4 @@
-"""CPU reference of the volume ray tracer's modes (app/model/render_modes.py), numpy and scipy.
+"""CPU reference of the volume ray tracer's modes (app/model/volume/render_modes.py), numpy and scipy.
 
 Same rays, same sampling rule and the same shading as resources/shaders/raytrace_FS.glsl, but exact
 entry and exit in float64 and as many steps as asked (the reference uses many more than the GPU).
@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-from app.model import render_modes as rm
+from app.model.volume import render_modes as rm
 from app.model.camera3d import OrbitCamera
-from app.model.volume_view import FLIP, box_extents, world_to_texture
+from app.model.volume.view import FLIP, box_extents, world_to_texture
 
 
 

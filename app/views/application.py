@@ -11,7 +11,7 @@ from PySide6.QtGui import QSurfaceFormat
 from PySide6.QtWidgets import QApplication
 
 from app.console.quoting import quote
-from app.gl.headless import SAMPLES
+from app.gl.core.headless import SAMPLES
 
 SCREENSHOT_DELAY_MS = 1500  # let docks settle and the first frames land
 SCREENSHOT_WAIT_MS = 60000  # then wait for the picture to settle (temporal histories), at most this long

@@ -9,7 +9,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog
 
 from app.commands.clouds import SWITCHES
 from app.console.quoting import quote
-from app.model.clouds import INTEGRATIONS, PARAM, Param
+from app.model.clouds.scene import INTEGRATIONS, PARAM, Param
 
 SLIDER_STEPS = 1000
 GROUPS = (

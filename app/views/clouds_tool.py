@@ -6,7 +6,7 @@ import time
 
 from PySide6.QtCore import Qt, QTimer
 
-from app.model.clouds import FOV_Y_DEG, clamp_altitude
+from app.model.clouds.scene import FOV_Y_DEG, clamp_altitude
 from app.views.tool import ViewportTool
 
 CLIMB = 1.2        # altitude factor per wheel notch

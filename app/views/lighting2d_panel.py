@@ -9,7 +9,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFormLayout, QGroupBox, QHB
                                QPushButton, QVBoxLayout, QWidget)
 
 from app.commands.lighting2d import sample_names
-from app.model.lighting2d import LIGHT_KINDS, SHADOW_METHODS, SHADOW_TYPES
+from app.model.lighting2d.scene import LIGHT_KINDS, SHADOW_METHODS, SHADOW_TYPES
 from app.views.form_widgets import ColorButton, rgb_words, spin
 
 

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from PySide6.QtCore import Qt
 
-from app.gl.lighting2d_overlay import HANDLE_PX, ICON_PX, handles
+from app.gl.lighting2d.overlay import HANDLE_PX, ICON_PX, handles
 from app.views.tool import ViewportTool
 
 PICK_PX = 8.0

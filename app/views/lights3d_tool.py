@@ -10,8 +10,8 @@ from PySide6.QtCore import Qt
 
 from app.console.text import number
 from app.model.camera3d import PITCH_LIMIT
-from app.model.lights3d import Lights3DCamera
-from app.model.lights3d_gizmo import drag_along, hit_axis, pick_light, pick_object
+from app.model.lights3d.scene import Lights3DCamera
+from app.model.lights3d.gizmo import drag_along, hit_axis, pick_light, pick_object
 from app.views.tool import ViewportTool
 
 DEGREES_PER_PIXEL = 0.4

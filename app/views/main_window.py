@@ -9,7 +9,7 @@ from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QProgressDialog,
 
 from app.console import files
 from app.editor import Editor
-from app.gl.workspace_renderer import RENDERERS
+from app.gl.core.workspace_renderer import RENDERERS
 from app.model.workspaces import WORKSPACES
 from app.views.autosave import AutosaveSession
 from app.views.bench_dock import BenchDock

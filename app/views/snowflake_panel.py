@@ -5,7 +5,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QFormLayout, QHBoxLayout, QLabel, QPushButton, QSlider, QWidget
 
 from app.console.text import count
-from app.gl.snowflake import chunk_layout
+from app.gl.snowflake.renderer import chunk_layout
 from app.model.snowflake import MAX_LEVEL
 
 SLIDER_STEPS_PER_LEVEL = 20

@@ -9,8 +9,8 @@ import moderngl
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
-from app.gl.gl_state import GLStateError
-from app.gl.workspace_renderer import EMPTY_BACKGROUND, WorkspaceRenderer
+from app.gl.core.gl_state import GLStateError
+from app.gl.core.workspace_renderer import EMPTY_BACKGROUND, WorkspaceRenderer
 from app.views.keys import key_name
 from app.views.tool import ViewportTool
 

@@ -14,11 +14,11 @@ from app.views.lighting2d_panel import Lighting2DPanel
 from app.views.lighting2d_tool import Lighting2DTool
 from app.views.lights3d_panel import Lights3DPanel
 from app.views.lights3d_tool import Lights3DTool
-from app.views.slice_painter import SlicePainter
-from app.views.slice_picker import SlicePicker
+from app.views.volume.slice_painter import SlicePainter
+from app.views.volume.slice_picker import SlicePicker
 from app.views.snowflake_panel import SnowflakePanel
 from app.views.snowflake_tool import SnowflakeTool
-from app.views.volume_tool import VolumeTool
+from app.views.volume.tool import VolumeTool
 from app.console.registry import SCRIPTS
 
 

@@ -1,5 +1,5 @@
 #version 330 core
-// The 3D scene's triangles (app/gl/lights3d_meshes.py): world space, w = 1.
+// The 3D scene's triangles (app/gl/lights3d/meshes.py): world space, w = 1.
 in vec4 in_position;
 in vec3 in_normal;  // the corner's shading normal
 in vec3 in_face;    // the triangle's geometric normal (the same at its three corners)

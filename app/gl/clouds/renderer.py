@@ -1,0 +1,260 @@
+"""The clouds on the GPU: the model's textures, the march into a reduced cloud buffer, the temporal passes
+(Guerrilla's reprojection, TAA) and the composite over the cirrus, sky and ground at the output's size.
+
+Passes per frame (docs/clouds.md, "Optimisations"):
+1. trace: every pixel of the cloud buffer (1/d of the output on each axis); with reprojection that pixel is
+   one output pixel of its d x d block, a different one each frame (d = 4: Guerrilla's 4x4 Bayer order);
+2. resolve (reprojection only, at the output's size): the traced pixels, the others from the last frame
+   (reprojected through a turn; clamped to what was traced around them while the clock runs), or this
+   frame's buffer, bilinear, where the last frame has nothing;
+3. taa (without reprojection): the history, clamped to this frame's 3x3 neighbourhood, blended with it;
+4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground."""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, replace
+
+import moderngl
+import numpy as np
+
+from app.gl.core.vertex_arrays import VertexArrays
+from app.model.clouds.scene import CloudRenderSettings, Frame
+
+# The order in which reprojection traces the pixels of a d x d block, one a frame (index = x + d y), each
+# frame's pixel far from the last ones: Bayer's for 2 and Guerrilla's 4x4, a dispersed one for 3.
+ORDERS = {2: (0, 3, 1, 2), 3: (0, 8, 2, 6, 4, 1, 7, 3, 5),
+          4: (0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5)}
+TAA_FRAMES = 16       # the history's weight settles at 1 - 1/16
+GOLDEN = 0.61803398875  # the blue noise's shift per frame: every offset visited evenly over time
+
+
+class Target:
+    """A framebuffer of float textures, nearest but those listed in `linear` (read between texels)."""
+
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], components: tuple[int, ...],
+                 linear: tuple[int, ...] = ()) -> None:
+        self.size = size
+        self.textures = [ctx.texture(size, c, dtype="f4") for c in components]
+        for i, texture in enumerate(self.textures):
+            f = moderngl.LINEAR if i in linear else moderngl.NEAREST
+            texture.filter = (f, f)
+            texture.repeat_x = texture.repeat_y = False
+        self.fbo = ctx.framebuffer(self.textures)
+
+
+def buffer_size(size: tuple[int, int], downsample: int) -> tuple[int, int]:
+    return max(1, math.ceil(size[0] / downsample)), max(1, math.ceil(size[1] / downsample))
+
+
+class CloudTexturesGL:
+    """The noise textures (uploaded once) and the two weather maps (uploaded when they change)."""
+
+    def __init__(self, ctx: moderngl.Context, noise) -> None:
+        self.ctx = ctx
+        self.shape = self._volume(noise.shape)
+        self.detail = self._volume(noise.detail)
+        self.curl = self._image(noise.curl)
+        self.cirrus = self._image(noise.cirrus)
+        self.blue = self._image(noise.blue, linear=False)
+        self.weather: list[moderngl.Texture] = []
+        self._weather_key = None
+
+    def _volume(self, a: np.ndarray) -> moderngl.Texture3D:
+        t = self.ctx.texture3d(a.shape[::-1], 1, np.ascontiguousarray(a, dtype="f4").tobytes(), dtype="f4")
+        t.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        t.repeat_x = t.repeat_y = t.repeat_z = True
+        return t
+
+    def _image(self, a: np.ndarray, linear: bool = True) -> moderngl.Texture:
+        components = 1 if a.ndim == 2 else a.shape[2]
+        t = self.ctx.texture((a.shape[1], a.shape[0]), components, np.ascontiguousarray(a, dtype="f4").tobytes(),
+                             dtype="f4")
+        f = moderngl.LINEAR if linear else moderngl.NEAREST
+        t.filter = (f, f)
+        t.repeat_x = t.repeat_y = True
+        return t
+
+    def sync_weather(self, blend) -> int:
+        """Upload the blend's maps if they changed; returns the number of maps uploaded."""
+        if blend.version == self._weather_key:
+            return 0
+        for t in self.weather:
+            t.release()
+        self.weather = [self._image(m) for m in blend.maps]
+        self._weather_key = blend.version
+        return len(self.weather)
+
+    def use(self) -> dict[str, int]:
+        units = {"u_shape": self.shape, "u_detail": self.detail, "u_curl": self.curl, "u_cirrus": self.cirrus,
+                 "u_weather_old": self.weather[0], "u_weather_new": self.weather[1], "u_blue": self.blue}
+        for unit, texture in enumerate(units.values()):
+            texture.use(unit)
+        return {name: unit for unit, name in enumerate(units)}
+
+
+def reprojects(settings: CloudRenderSettings) -> bool:
+    """Reprojection fills in the blocks of a reduced buffer: a full one has none."""
+    return settings.reproject and settings.downsample > 1
+
+
+def uniforms(frame: Frame, settings: CloudRenderSettings, aspect: float, frame_index: int) -> dict:
+    values = {f"u_{name}": value for name, value in asdict(frame).items()}
+    values.update(u_aspect=aspect, u_steps=settings.steps, u_seed_integration=int(settings.integration == "seed"),
+                  u_early_exit=int(settings.early_exit), u_big_steps=int(settings.big_steps),
+                  u_light_skip=int(settings.light_skip), u_detail_skip=int(settings.detail_skip),
+                  u_jitter=int(settings.jitter), u_frame_offset=(frame_index * GOLDEN) % 1.0)
+    return values
+
+
+class CloudRenderer:
+    def __init__(self, ctx: moderngl.Context, shaders) -> None:
+        self.ctx, self.shaders = ctx, shaders
+        self.textures: CloudTexturesGL | None = None
+        self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
+        self._targets: dict[str, Target] = {}
+        self.frame_index = 0
+        self._key = None           # what the histories were made with: all but the clock and the turn
+        self._basis = None         # the last frame's camera basis: a turn reprojects through it
+        self._clock = None         # the last frame's wind offsets and blend
+        self._clock_moved = False
+        self._resolved = None      # the last resolved buffer (reprojection)
+        self._taa = None           # the last TAA output
+        self.taa_frames = 0
+        self.reprojected_frames = 0
+        self.last_lookups: Target | None = None  # the lookups of the last frame's cloud buffer
+        self.last_clouds: moderngl.Texture | None = None  # the buffer the last composite read
+
+    # ---- targets ------------------------------------------------------------------------------------
+
+    def _target(self, name: str, size, components, linear: tuple[int, ...] = ()) -> Target:
+        t = self._targets.get(name)
+        if t is None or t.size != size:
+            if t is not None:
+                t.fbo.release()
+                for texture in t.textures:
+                    texture.release()
+            t = self._targets[name] = Target(self.ctx, size, components, linear)
+        return t
+
+    def _draw(self, program_name: str, target_fbo, values: dict) -> None:
+        program = self.shaders.program(program_name)
+        for name, value in values.items():
+            if name in program:
+                program[name].value = value
+        target_fbo.use()
+        self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
+
+    # ---- a frame ------------------------------------------------------------------------------------
+
+    def render(self, fbo: moderngl.Framebuffer, frame: Frame, weather, settings: CloudRenderSettings, noise) -> None:
+        """Draw one frame of the clouds into `fbo` (`weather`: the WeatherBlend; `noise`: NoiseTextures)."""
+        if self.textures is None:
+            self.textures = CloudTexturesGL(self.ctx, noise)
+        self.textures.sync_weather(weather)
+        size = fbo.size
+        bsize = buffer_size(size, settings.downsample)
+        aspect = size[0] / max(size[1], 1)
+        values = uniforms(frame, settings, aspect, self.frame_index)
+        values.update(self.textures.use())
+        # The histories hold while only the clock moves (the winds, a weather blend); reprojection's also
+        # through a turn of the camera (a direction's colour does not depend on where the camera looks);
+        # anything else restarts them (docs/clouds.md, "Optimisations").
+        basis = (frame.forward, frame.right, frame.up)
+        clock = (frame.wind_offset, frame.weather_offset, frame.high_offset, frame.blend)
+        key = (replace(frame, forward=None, right=None, up=None, wind_offset=None, weather_offset=None,
+                       high_offset=None, blend=None),
+               replace(settings, debug_samples=False), size, weather.version)
+        history = 0 if key != self._key else 1 if basis == self._basis else 2
+        self._clock_moved = clock != self._clock
+        values.update(u_buffer=bsize)
+
+        clouds = self._trace(size, bsize, settings, values, history)
+        if settings.taa and not reprojects(settings):  # reprojection averages its cycles itself
+            clouds = self._temporal_aa(bsize, clouds, values, history == 1)
+        else:
+            self.taa_frames = 0
+        self.last_clouds = clouds
+        composite = dict(values, u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8,
+                         u_debug=int(settings.debug_samples))
+        clouds.use(7)
+        self.last_lookups.textures[1].use(8)
+        self._draw("clouds_composite", fbo, composite)
+        self._key, self._basis, self._clock = key, basis, clock
+        self.frame_index += 1
+
+    def _trace(self, size, bsize, settings, values, history: int) -> moderngl.Texture:
+        if not reprojects(settings):
+            target = self._target("trace", bsize, (4, 1), linear=(0,))
+            self._draw("clouds_trace", target.fbo, dict(values, u_stride=1, u_phase=(0, 0)))
+            self.last_lookups = target
+            self._resolved, self.reprojected_frames = None, 0
+            return target.textures[0]
+        d = settings.downsample
+        last = self._resolved if history else None
+        mode = history if last is not None else 0
+        self.reprojected_frames = frames = self.reprojected_frames + 1 if mode == 1 else 1
+        # The order runs on through restarts (a turn restarts every frame: each pixel must still come round);
+        # `rank` says how many frames after the restart each pixel of a block is first traced.
+        order = ORDERS[d]
+        n = len(order)
+        phase = (order[self.frame_index % n] % d, order[self.frame_index % n] // d)
+        start = self.frame_index - (frames - 1)
+        rank = [0] * 16
+        for k, index in enumerate(order):
+            rank[index] = (k - start) % n
+        fresh = self._target("fresh", bsize, (4, 1))
+        # A pixel keeps its sample for a cycle of d^2 frames: the blue noise moves once a cycle, so the pixels
+        # of a block share one offset (different ones would show the block's pattern) and TAA averages cycles.
+        offset = (self.frame_index // n * GOLDEN) % 1.0 if settings.jitter else 0.0
+        self._draw("clouds_trace", fresh.fbo, dict(values, u_buffer=size, u_stride=d, u_phase=phase,
+                                                   u_frame_offset=offset))
+        # linear, both: a turn reads the last frame and its traced flags between texels
+        out = self._target("resolve_b" if last is self._targets.get("resolve_a") else "resolve_a", size, (4, 2),
+                           linear=(0, 1))
+        fresh.textures[0].use(9)
+        fresh.textures[1].use(10)
+        if last is not None:
+            last.textures[0].use(11)
+            last.textures[1].use(12)
+        basis = self._basis or (values["u_forward"], values["u_right"], values["u_up"])
+        self._draw("clouds_resolve", out.fbo, dict(
+            values, u_size=size, u_down=d, u_phase=phase, u_fresh=9, u_fresh_lookups=10, u_history=11,
+            u_history_state=12, u_history_mode=mode, u_prev_forward=basis[0],
+            u_prev_right=basis[1], u_prev_up=basis[2], u_clamp=int(self._clock_moved), u_frames=frames,
+            u_rank=rank, u_average=int(settings.taa and settings.jitter)))
+        self._resolved = out
+        self.last_lookups = out
+        return out.textures[0]
+
+    def _temporal_aa(self, bsize, current: moderngl.Texture, values, valid: bool) -> moderngl.Texture:
+        history = self._taa if valid else None
+        out = self._target("taa_b" if history is self._targets.get("taa_a") else "taa_a", bsize, (4,), linear=(0,))
+        self.taa_frames = self.taa_frames + 1 if history is not None else 1
+        current.use(12)
+        if history is not None:
+            history.textures[0].use(13)
+        self._draw("clouds_taa", out.fbo, dict(values, u_current=12, u_history=13,
+                                               u_history_valid=int(history is not None),
+                                               u_weight=max(1.0 / self.taa_frames, 1.0 / TAA_FRAMES)))
+        self._taa = out
+        return out.textures[0]
+
+    def settling(self, settings: CloudRenderSettings) -> bool:
+        """Whether more frames of an unchanged scene still change the image (the histories fill): TAA has
+        something to average only while the jitter moves; reprojection fills its blocks in d^2 frames."""
+        averaging = settings.taa and settings.jitter
+        if reprojects(settings):
+            return self.reprojected_frames < (TAA_FRAMES if averaging else settings.downsample ** 2)
+        return averaging and self.taa_frames < TAA_FRAMES
+
+    def lookups(self, size: tuple[int, int], frame: Frame, settings: CloudRenderSettings) -> float:
+        """Texture lookups per output pixel of the last frame: the cloud buffer's (shared by the pixels it
+        covers) plus the composite's own (cirrus, ground shadows), read back from float targets."""
+        counts = self.last_lookups.textures[1]
+        march = float(np.frombuffer(counts.read(), dtype="f4").reshape(-1, counts.components)[:, 0].sum())
+        target = self._target("lookups", size, (1,))
+        values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
+        values.update(self.textures.use(), u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8, u_debug=2)
+        self._draw("clouds_composite", target.fbo, values)
+        composite = float(np.frombuffer(target.textures[0].read(), dtype="f4").sum())
+        return (march + composite) / (size[0] * size[1])

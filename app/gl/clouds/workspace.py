@@ -1,0 +1,46 @@
+"""The clouds workspace's renderer: its model's frame through the cloud renderer; it keeps asking for
+frames while its temporal histories fill (TAA, reprojection). Its cheaper levels trace a smaller cloud buffer
+and, last, fewer steps."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from app.gl.clouds.renderer import CloudRenderer
+from app.gl.core.frame_budget import FULL, Level
+from app.gl.core.renderer_base import WorkspaceRendererBase
+from app.io.clouds.textures import noise_textures
+from app.model.clouds.scene import CloudRenderSettings
+
+DOWNSAMPLES = (1, 2, 4, 4)   # the cloud buffer's least reduction, by the level's `cheap`
+STEP_FACTORS = (1, 1, 1, 0.5)
+MIN_STEPS = 8
+
+
+class CloudsWorkspaceRenderer(WorkspaceRendererBase):
+    LEVELS = (FULL, Level(1.0, 1), Level(1.0, 2), Level(0.5, 2), Level(0.25, 2), Level(0.25, 3))
+
+    def __init__(self, ctx, shaders) -> None:
+        super().__init__(ctx, shaders)
+        self.clouds = CloudRenderer(ctx, shaders)
+        self._settling = False
+
+    @staticmethod
+    def prepare(progress=None, warn=None) -> None:
+        noise_textures(progress, warn=warn)
+
+    def cheaper(self, settings: CloudRenderSettings, cheap: int) -> CloudRenderSettings:
+        return replace(settings, downsample=max(settings.downsample, DOWNSAMPLES[cheap]),
+                       steps=max(MIN_STEPS, round(settings.steps * STEP_FACTORS[cheap])))
+
+    def render(self, fbo, state, settings: CloudRenderSettings, interactive: bool = False) -> bool:
+        # Hosts call prepare() first, with a progress bar; one that did not waits for the textures here.
+        noise = noise_textures()
+        if interactive:  # while the view moves no TAA (its history would ghost); reprojection, if the settings
+            # ask for it, follows the turn; the full frame after
+            settings = replace(settings, taa=False)
+        self.clouds.render(fbo, state.frame(), state.weather, settings, noise)
+        self._settling = not interactive and self.clouds.settling(settings)
+        return interactive
+
+    def settling(self) -> bool:
+        return self._settling
