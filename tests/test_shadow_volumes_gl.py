@@ -4,7 +4,8 @@ and grazing light. The numbers measured are printed (pytest -s); docs quote them
 import numpy as np
 import pytest
 
-from app.gl.lights3d.shadow_volume_pass import METHODS, SHADOW_VALUE, ShadowVolumePass, shadowed, volume
+from app.gl.lights3d.shadow_methods import SHADOW_VALUE
+from app.gl.lights3d.shadow_volume_pass import METHODS, ShadowVolumePass, shadowed, volume
 from app.gl.lights3d.shadow_volumes import VolumeGeometry, onepass_volume
 from app.gl.core.shaders import ShaderLibrary
 from app.gl.core.stencil import GL, StencilTarget, clear_stencil

@@ -16,9 +16,9 @@ triangles each). Per method and setting:
   (within the lights' reach) and `extruded_edges`; `shadow_ms`: one light after another, the volumes built
   (`build_ms`, numpy) and marked, or the map drawn and read (shadow_mask's cost).
 
-Methods: onepass, zpass, zfail and map (the renderer's default map: 1024 texels, PCF 3, bias 0.0002) against
-the triangles; the map's size as its own series at PCF 1, 3 and 5 (the default bias); the bias as a series at
-1024 texels, PCF 3.
+Methods: every one that shadows (app/gl/lights3d/shadow_methods.py: onepass, zpass, zfail and map, the
+renderer's default map: 1024 texels, PCF 3, bias 0.0002) against the triangles; the map's size as its own series
+at PCF 1, 3 and 5 (the default bias); the bias as a series at 1024 texels, PCF 3.
 """
 from __future__ import annotations
 
@@ -30,13 +30,13 @@ from scipy import ndimage
 
 from app.bench.harness import Method, Technique, time_frames
 from app.gl.lights3d.light_reach import reaches
+from app.gl.lights3d.shadow_methods import MAP, METHODS
 from app.model.lights3d import mesh as mesh3d
 from app.model.lights3d.scene import Lights3DCamera, Scene3D, default_scene
 from app.model.lights3d.render_settings import Lights3DRenderSettings
 
 SCENE = "default"
 CAMERA = Lights3DCamera(distance=250.0)
-VOLUME_METHODS = ("onepass", "zpass", "zfail")
 SPHERE, TORUS = 2, 3  # the default scene's objects the triangles knob tessellates
 
 
@@ -171,12 +171,12 @@ class ShadowsBench:
     def methods(self) -> list[Method]:
         p = self.plan
         default_map = Lights3DRenderSettings()
-        out = [self.method(m, "triangles", p.triangles, lambda v, m=m: Setting(m, int(v), default_map))
-               for m in (*VOLUME_METHODS, "map")]
-        out += [self.method(f"map pcf{k}", "map_size", p.map_sizes, lambda v, k=k: Setting(
-                    "map", p.triangles[0], replace(default_map, map_size=int(v), pcf=k))) for k in (1, 3, 5)]
-        out.append(self.method("map bias", "bias", p.biases,
-                               lambda v: Setting("map", p.triangles[0], replace(default_map, bias=float(v)))))
+        out = [self.method(m.name, "triangles", p.triangles, lambda v, m=m: Setting(m.name, int(v), default_map))
+               for m in METHODS.values() if m.shadows]
+        out += [self.method(f"{MAP.name} pcf{k}", "map_size", p.map_sizes, lambda v, k=k: Setting(
+                    MAP.name, p.triangles[0], replace(default_map, map_size=int(v), pcf=k))) for k in (1, 3, 5)]
+        out.append(self.method(f"{MAP.name} bias", "bias", p.biases,
+                               lambda v: Setting(MAP.name, p.triangles[0], replace(default_map, bias=float(v)))))
         return out
 
 

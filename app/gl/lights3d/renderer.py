@@ -1,6 +1,6 @@
 """The 3D lights renderer (seeds 004 and 002): per-pixel point, spot and directional lights, each shadowed its
-own way (Light3D.shadow): stencil volumes (onepass, zpass, zfail: app/gl/lights3d/shadow_volume_pass.py), a shadow map
-with PCF (app/gl/lights3d/shadow_map.py) or none.
+own way (Light3D.shadow, one of app/gl/lights3d/shadow_methods.py): stencil volumes (onepass, zpass, zfail:
+app/gl/lights3d/shadow_volume_pass.py), a shadow map with PCF (app/gl/lights3d/shadow_map.py) or none.
 
 A frame is drawn into its own target, float colour and DEPTH24_STENCIL8 at the output's size (whatever stencil
 the host's framebuffer has), then copied into the host's framebuffer:
@@ -35,8 +35,8 @@ from app.gl.lights3d.meshes import ObjectBuffer, ObjectBuffers
 from app.gl.lights3d.overlay import Overlay
 from app.gl.lights3d.caster_volumes import VolumeCache, build
 from app.gl.lights3d.shadow_map import ShadowMap
-from app.gl.lights3d.shadow_volume_pass import METHODS as VOLUME_METHODS
-from app.gl.lights3d.shadow_volume_pass import SHADOW_VALUE, ShadowVolumePass, shadowed
+from app.gl.lights3d.shadow_methods import MAP, METHODS
+from app.gl.lights3d.shadow_volume_pass import ShadowVolumePass, shadowed
 from app.gl.core.stencil import GL, StencilState, StencilTarget, clear_stencil, stencil_state
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
@@ -46,9 +46,6 @@ from app.model.lights3d.render_settings import Lights3DRenderSettings
 log = logging.getLogger(__name__)
 # Scene depth and ambient colour: depth LESS and written, stencil untouched.
 SCENE_PASS = StencilState(write_mask=0, depth_write=True, colour_write=True)
-# Where a light is added: the stencil value each method leaves on lit pixels (onepass: anything but the shadow
-# value; zpass, zfail: a zero count); a map or no shadow tests nothing.
-LIT_WHERE = {"onepass": (GL.GL_NOTEQUAL, SHADOW_VALUE), "zpass": (GL.GL_EQUAL, 0), "zfail": (GL.GL_EQUAL, 0)}
 COPY_PASS = StencilState(write_mask=0, depth_func=GL.GL_ALWAYS, colour_write=True)
 LIGHT_KIND = {"point": 0, "spot": 1, "directional": 2}
 
@@ -58,11 +55,6 @@ def drop_stale_errors() -> None:
     bound leaves one at the next one made), logged, so that glGetError after the frame tells of its own alone."""
     while (error := GL.glGetError()) != GL.GL_NO_ERROR:
         log.warning("a GL error left before the 3D lights' frame: 0x%x", error)
-
-
-def light_pass_state(method: str) -> StencilState:
-    func, ref = LIT_WHERE.get(method, (GL.GL_ALWAYS, 0))
-    return StencilState(func=func, ref=ref, write_mask=0, depth_func=GL.GL_EQUAL, colour_write=True)
 
 
 def matrix(m: np.ndarray) -> tuple:
@@ -143,7 +135,7 @@ class Lights3DRenderer:
         if debug == "mask":
             lights = lights[:1]
         elif debug == "stencil":
-            lights = [(i, light) for i, light in lights if light.shadow in VOLUME_METHODS][:1]
+            lights = [(i, light) for i, light in lights if METHODS[light.shadow].volumes][:1]
         visible = set(in_view)  # ObjectBuffers hash by identity
         for index, light in lights:
             reached = [b for b in buffers if reaches(light, b.centre, b.radius)]
@@ -164,7 +156,7 @@ class Lights3DRenderer:
             stats.lights_drawn += 1
             stats.scissor_pixels += rect[2] * rect[3]
         self.volumes.end_frame()
-        for index in [i for i in self.maps if i >= len(scene.lights) or scene.lights[i].shadow != "map"]:
+        for index in [i for i in self.maps if i >= len(scene.lights) or not METHODS[scene.lights[i].shadow].shadow_map]:
             self.maps.pop(index).release()
         if marks:
             stats.overlay_triangles = self.overlay.draw(target.fbo, scene, camera, selection)
@@ -202,12 +194,13 @@ class Lights3DRenderer:
     def _shadow(self, target: StencilTarget, index: int, light: Light3D, reached, buffers, view_proj,
                 settings, stats: FrameStats) -> None:
         casters = [b for b in reached if b.casts]
-        if light.shadow in VOLUME_METHODS:
+        method = METHODS[light.shadow]
+        if method.volumes:
             clear_stencil(target.fbo)
             volumes = [self.volumes.get(light.shadow, caster.obj, light) for caster in casters]
             stats.volume_triangles += self.volume_pass.mark_uploaded(target.fbo, light.shadow, volumes, view_proj)
             stats.volumes_drawn += len(casters)
-        elif light.shadow == "map":
+        elif method.shadow_map:
             if index not in self.maps:
                 self.maps[index] = ShadowMap(self.ctx, self.shaders)
             shadow_map = self.maps[index]
@@ -216,19 +209,20 @@ class Lights3DRenderer:
 
     def _light_pass(self, fbo, scene: Scene3D, camera: OrbitCamera, index: int, light: Light3D, buffers,
                     view_proj, settings) -> None:
+        method = METHODS[light.shadow]
         program = self.shaders.program("lights3d_light")
         self._light_uniforms(program, light, view_proj)
         values = {"u_light_colour": tuple(light.colour), "u_eye": tuple(camera.position()),
                   "u_shininess": scene.shininess, "u_specular": scene.specular,
-                  "u_facing_test": light.shadow != "none", "u_reach_mask": settings.debug == "mask"}
+                  "u_facing_test": method.shadows, "u_reach_mask": settings.debug == "mask"}
         for name, value in values.items():
             program[name].value = value
-        if light.shadow == "map":
+        if method.shadow_map:
             self.maps[index].bind(program, settings.bias, settings.pcf)
         else:
             program["u_map_mode"].value = 0
         fbo.use()
-        with stencil_state(light_pass_state(light.shadow)), blending(True):
+        with stencil_state(method.light_pass), blending(True):
             for b in buffers:
                 program["u_albedo"].value = tuple(b.obj.colour)
                 b.render(program)
@@ -277,6 +271,7 @@ class Lights3DRenderer:
         settings = settings or Lights3DRenderSettings()
         drop_stale_errors()
         light = replace(scene.lights[light_index], shadow=method)
+        shadow = METHODS[method]
         target = self._target(size)
         buffers = self.objects.update(scene.objects)
         view_proj = camera.clip_from_world(size)
@@ -284,12 +279,12 @@ class Lights3DRenderer:
         target.clear(colour=(*BACKGROUND, 1.0))
         self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)
         casters = [b for b in buffers if b.casts and reaches(light, b.centre, b.radius)]
-        if method == "map":  # its texture made before the clock starts: drawing a map is timed, not allocating it
+        if shadow.shadow_map:  # its texture made before the clock starts: drawing a map is timed, not allocating it
             self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders)
             self.mask_map.reserve(light, scene_bounds(buffers), settings.map_size, settings.pcf)
         self.ctx.finish()
         start = time.perf_counter()
-        if method in VOLUME_METHODS:
+        if shadow.volumes:
             geometries = [build(method, c.obj, light) for c in casters]
             built = time.perf_counter()
             clear_stencil(target.fbo)
@@ -298,7 +293,7 @@ class Lights3DRenderer:
             done = time.perf_counter()
             mask, visibility = shadowed(method, target.read_stencil()), None
             edges = sum(g.extruded_edges for g in geometries)
-        elif method == "map":
+        elif shadow.shadow_map:
             built = start
             visibility = self._map_visibility(target, light, casters, buffers, view_proj, settings)
             done = time.perf_counter()
@@ -318,7 +313,7 @@ class Lights3DRenderer:
         self._light_uniforms(program, light, view_proj)
         self.mask_map.bind(program, settings.bias, settings.pcf)
         target.fbo.use()
-        with stencil_state(light_pass_state("map")), blending(False):
+        with stencil_state(MAP.light_pass), blending(False):
             for b in buffers:
                 b.render(program)
         self.ctx.finish()
