@@ -66,9 +66,11 @@ class CommandSet:
 
         return declare
 
-    def register(self, registry: Registry, context: Any, checks: ArgChecks | ScopedArgChecks) -> None:
+    def register(self, registry: Registry, context: Any, checks: ArgChecks | ScopedArgChecks | None = None) -> None:
         """Register every declared command, bound to `context`, and every check in `checks` (scoped to the
-        workspace by the caller, as the registry's commands are here)."""
+        workspace by the caller, as the registry's commands are here; a set without checks needs none)."""
+        if self._checks and checks is None:
+            raise ValueError("these commands have demo checks: give the ArgChecks to register them in")
         for d in self.declared:
             completer = partial(d.completer, context) if d.completer else None
             registry.add_command(Command(d.name, partial(d.function, context), parse_params(d.spec), d.help,

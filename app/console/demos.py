@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Callable
 
 from app.console import demo, files
+from app.console.command_set import CommandSet, Context
 from app.console.console import Console
 from app.console.budget import RunBudget
 from app.console.registry import SCRIPTS, CommandError
@@ -14,6 +15,7 @@ from app.console.text import count
 from app.io.atomic import name_max
 
 DEMO_SUFFIX = ".demo"
+COMMANDS = CommandSet(None)
 
 
 def _demo_path(name: str) -> str:
@@ -44,7 +46,7 @@ class Demos:
         self._budget: RunBudget | None = None  # the demo playing's, over all its updates
         self.arg_checks = demo.ArgChecks()  # the command modules add theirs; every demo is checked with them
         self.snapshot_suffixes: tuple[str, ...] = ()
-        self._register()
+        COMMANDS.register(console.registry, Context(console, self))
 
     @property
     def playing(self) -> bool:
@@ -103,71 +105,83 @@ class Demos:
                                f"{size} bytes, more than the {limit} a file name may have here; give at most {room} "
                                f"bytes before {DEMO_SUFFIX}")
 
-    def _register(self) -> None:
-        reg = self.console.registry
-        demo_files = lambda p: files.complete(p, (DEMO_SUFFIX,))  # noqa: E731
 
-        @reg.command("record", "demo", "Record every command with its time into a .demo file (stop ends it)",
-                     recorded=False, allow=SCRIPTS)
-        def record(name: str) -> None:
-            if self.recorder is not None:
-                raise CommandError(f"already recording {self.recorder.path}; stop first")
-            path = files.writable(self.console, _demo_path(name))
-            self._check_names(path)
-            try:
-                preamble = self.preamble(path)
-            except OSError as exc:
-                raise CommandError(f"cannot write the demo's snapshot beside {path}: {exc.strerror or exc}") from None
-            self.recorder = demo.Recorder(self.console, self.clock, path, preamble)
-            self.console.print(f"recording to {path}")
+Ctx = Context[Demos]
 
-        @reg.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False, allow=SCRIPTS)
-        def stop() -> None:
-            if self.recorder is None and self.player is None:
-                raise CommandError("nothing is recording or playing")
-            self.stop_all()
 
-        @reg.command("play", "demo [speed:float]", "Replay a demo at its recorded times (speed 2 = twice as fast)",
-                     recorded=False, completer=demo_files, allow=SCRIPTS)
-        def play(name: str, speed: float = 1.0) -> None:
-            if self.player is not None:
-                raise CommandError("a demo is already playing; stop it first")
-            demo.check_speed(speed)  # before reading the file: a refused speed needs no file
-            events, self._home = self._load(name)
-            self._budget = RunBudget(self.console.budget_seconds)
-            self.player = demo.Player(self.console, self.clock, events, speed, on_done=lambda: self._finished(name))
-            self.console.print(f"playing {_demo_path(name)}: {count(len(events), 'command')}, "
-                               f"{events[-1].time / speed if events else 0:.1f} s")
-            self.update()
+def _demo_files(ctx: Ctx, prefix: str) -> list[str]:
+    return files.complete(prefix, (DEMO_SUFFIX,))
 
-        @reg.command("pause", "", "Pause or resume the demo playing", recorded=False, allow=SCRIPTS)
-        def pause() -> None:
-            if self.player is None:
-                raise CommandError("no demo is playing")
-            if self.player.paused_at is None:
-                self.player.pause()
-                self.console.print("paused")
-            else:
-                self.player.resume()
-                self.console.print("resumed")
 
-        @reg.command("timedemo", "demo", "Replay a demo as fast as possible, a frame per time step, and "
-                     "print frames per second", recorded=False, completer=demo_files, allow=SCRIPTS)
-        def timedemo(name: str) -> None:
-            events, home = self._load(name)
-            frames = 0
-            start = time.perf_counter()
-            budget = RunBudget(self.console.budget_seconds)  # one for the whole demo, as it plays
-            for i, event in enumerate(events):
-                with self.console.untrusted("demo", home, budget):
-                    ok = self.console.execute(event.line, echo=False)
-                if not ok:  # it logged why; the rest relied on it
-                    raise CommandError(f"{_demo_path(name)}: {demo.stopped(events, i)}")
-                if i + 1 == len(events) or events[i + 1].time != event.time:
-                    if self.frame is not None:
-                        self.frame()
-                    frames += 1
-            seconds = max(time.perf_counter() - start, 1e-9)
-            drawn = "" if self.frame is not None else " (commands only, nothing drawn)"
-            self.console.print(f"timedemo {_demo_path(name)}: {frames} frames in {seconds:.3f} s = "
-                               f"{frames / seconds:.1f} frames/s{drawn}")
+@COMMANDS.command("record", "demo", "Record every command with its time into a .demo file (stop ends it)",
+                  recorded=False, allow=SCRIPTS)
+def record(ctx: Ctx, name: str) -> None:
+    demos = ctx.state
+    if demos.recorder is not None:
+        raise CommandError(f"already recording {demos.recorder.path}; stop first")
+    path = files.writable(ctx.console, _demo_path(name))
+    demos._check_names(path)
+    try:
+        preamble = demos.preamble(path)
+    except OSError as exc:
+        raise CommandError(f"cannot write the demo's snapshot beside {path}: {exc.strerror or exc}") from None
+    demos.recorder = demo.Recorder(ctx.console, demos.clock, path, preamble)
+    ctx.console.print(f"recording to {path}")
+
+
+@COMMANDS.command("stop", "", "Stop recording (the demo is saved) and playback", recorded=False, allow=SCRIPTS)
+def stop(ctx: Ctx) -> None:
+    if ctx.state.recorder is None and ctx.state.player is None:
+        raise CommandError("nothing is recording or playing")
+    ctx.state.stop_all()
+
+
+@COMMANDS.command("play", "demo [speed:float]", "Replay a demo at its recorded times (speed 2 = twice as fast)",
+                  recorded=False, completer=_demo_files, allow=SCRIPTS)
+def play(ctx: Ctx, name: str, speed: float = 1.0) -> None:
+    demos = ctx.state
+    if demos.player is not None:
+        raise CommandError("a demo is already playing; stop it first")
+    demo.check_speed(speed)  # before reading the file: a refused speed needs no file
+    events, demos._home = demos._load(name)
+    demos._budget = RunBudget(ctx.console.budget_seconds)
+    demos.player = demo.Player(ctx.console, demos.clock, events, speed, on_done=lambda: demos._finished(name))
+    ctx.console.print(f"playing {_demo_path(name)}: {count(len(events), 'command')}, "
+                      f"{events[-1].time / speed if events else 0:.1f} s")
+    demos.update()
+
+
+@COMMANDS.command("pause", "", "Pause or resume the demo playing", recorded=False, allow=SCRIPTS)
+def pause(ctx: Ctx) -> None:
+    player = ctx.state.player
+    if player is None:
+        raise CommandError("no demo is playing")
+    if player.paused_at is None:
+        player.pause()
+        ctx.console.print("paused")
+    else:
+        player.resume()
+        ctx.console.print("resumed")
+
+
+@COMMANDS.command("timedemo", "demo", "Replay a demo as fast as possible, a frame per time step, and "
+                  "print frames per second", recorded=False, completer=_demo_files, allow=SCRIPTS)
+def timedemo(ctx: Ctx, name: str) -> None:
+    console, frame = ctx.console, ctx.state.frame
+    events, home = ctx.state._load(name)
+    frames = 0
+    start = time.perf_counter()
+    budget = RunBudget(console.budget_seconds)  # one for the whole demo, as it plays
+    for i, event in enumerate(events):
+        with console.untrusted("demo", home, budget):
+            ok = console.execute(event.line, echo=False)
+        if not ok:  # it logged why; the rest relied on it
+            raise CommandError(f"{_demo_path(name)}: {demo.stopped(events, i)}")
+        if i + 1 == len(events) or events[i + 1].time != event.time:
+            if frame is not None:
+                frame()
+            frames += 1
+    seconds = max(time.perf_counter() - start, 1e-9)
+    drawn = "" if frame is not None else " (commands only, nothing drawn)"
+    console.print(f"timedemo {_demo_path(name)}: {frames} frames in {seconds:.3f} s = "
+                  f"{frames / seconds:.1f} frames/s{drawn}")
