@@ -9,20 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from app.gl.core.shader_source import (
-    GSLimits,
-    Origin,
-    ShaderError,
-    Stage,
-    components_per_vertex,
-    default_cache_dir,
-    load_stage,
-    parse_driver_log,
-    parse_prg,
-    preprocess,
-    stage_from_path,
-    write_prs,
-)
+from app.gl.core.shader_source import (GSLimits, Origin, ShaderError, Stage, components_per_vertex, default_cache_dir,
+                                       load_stage, parse_driver_log, parse_prg, preprocess, stage_from_path, write_prs)
 
 LIMITS = GSLimits(max_output_vertices=1024, max_total_output_components=1024)
 

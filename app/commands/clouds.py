@@ -17,7 +17,7 @@ from app.io.clouds.scene_file import MAX_SEED, CloudScene, CloudSceneError
 from app.io.clouds.weather_image import WeatherError, load_weather
 from app.model.clouds.weather import resample, weather_map
 from app.model.clouds.scene import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
-                              sun_at_hour)
+                                    sun_at_hour)
 from app.model.clouds.workspace import MAX_TIME, WEATHER_SIZE, CloudsWorkspace, check_times
 from app.model.workspace import SceneFiles
 

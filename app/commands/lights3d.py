@@ -16,7 +16,7 @@ from app.console.text import count, number
 from app.io import lights3d_scene
 from app.io.lights3d_scene import Lights3DSceneError
 from app.model.lights3d.scene import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
-                                Scene3D, default_scene, new_object)
+                                      Scene3D, default_scene, new_object)
 from app.model.lights3d.placement import ground_spot
 from app.model.lights3d.render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
                                                 Lights3DRenderSettings)

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pyqtgraph as pg
 from PySide6.QtCore import QProcess, Qt, Signal
-from PySide6.QtWidgets import (QFileDialog, QLabel, QProgressBar, QPushButton, QSizePolicy,
-                               QStackedWidget, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QFileDialog, QLabel, QProgressBar, QPushButton, QSizePolicy, QStackedWidget, QVBoxLayout,
+                               QWidget)
 
 from app.bench import TECHNIQUES, WORKSPACE_TECHNIQUE, report
 from app.io.cache import cache_root

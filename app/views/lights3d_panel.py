@@ -7,7 +7,7 @@ from PySide6.QtWidgets import (QAbstractSpinBox, QComboBox, QFormLayout, QGroupB
                                QPushButton, QSizePolicy, QVBoxLayout, QWidget)
 
 from app.model.lights3d.scene import (LIGHT_KINDS, MAX_COORD, MAX_FALLOFF, MAX_SHININESS, MAX_SIZE, MAX_SPECULAR,
-                                OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES)
+                                      OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES)
 from app.model.lights3d.render_settings import MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS
 from app.views.form_widgets import ColorButton, rgb_words, spin
 from app.views.lights3d_tool import REMOVE_VERBS

@@ -12,18 +12,8 @@ from pathlib import Path
 
 import moderngl
 
-from app.gl.core.shader_source import (
-    GSLimits,
-    ProgramSpec,
-    ShaderError,
-    Stage,
-    StageSource,
-    default_cache_dir,
-    load_stage,
-    parse_driver_log,
-    parse_prg,
-    write_prs,
-)
+from app.gl.core.shader_source import (GSLimits, ProgramSpec, ShaderError, Stage, StageSource, default_cache_dir,
+                                       load_stage, parse_driver_log, parse_prg, write_prs)
 
 log = logging.getLogger(__name__)
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from app.gl.core.blending import blending
 from app.gl.lights3d.light_reach import (frustum_planes, light_in_view, reach_box, reaches, screen_rect, sphere_in_view,
-                                union)
+                                         union)
 from app.gl.lights3d.meshes import ObjectBuffer, ObjectBuffers
 from app.gl.lights3d.overlay import Overlay
 from app.gl.lights3d.caster_volumes import VolumeCache, build
