@@ -38,7 +38,6 @@ def _size(text: str) -> tuple[int, int]:
 
 def parser() -> argparse.ArgumentParser:
     from app.bench import TECHNIQUES
-    from app.gl.core.workspace_renderer import RENDERERS
     from app.model.workspaces import names
 
     p = argparse.ArgumentParser(prog="shadelab",
@@ -46,7 +45,7 @@ def parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="verb", metavar="{" + ",".join(VERBS) + "}")
     sub.add_parser("exec", help=VERBS["exec"])
     r = sub.add_parser("render", help=VERBS["render"])
-    r.add_argument("workspace", choices=[n for n in names() if n in RENDERERS])
+    r.add_argument("workspace", choices=names())
     r.add_argument("--scene", metavar="FILE", help="scene file to load first (scene.load)")
     r.add_argument("--cmd", action="append", default=[], metavar="COMMAND",
                    help="console command to run before drawing (repeatable, in order)")
@@ -139,7 +138,7 @@ def bench(args) -> int:
     ensure_qt_app(offscreen=True)  # the chart is painted by pyqtgraph
     tech = TECHNIQUES[args.technique](quick=args.quick)
     for workspace, technique in WORKSPACE_TECHNIQUE.items():  # textures made before the first frame, with a bar
-        if technique == args.technique and workspace in RENDERERS:
+        if technique == args.technique:
             RENDERERS[workspace].prepare(terminal_progress(sys.stderr))
     ctx = create_context()
     try:

@@ -1,6 +1,6 @@
-"""The clouds bench (app/bench/clouds.py, clouds_report.py) on tiny images, few steps and tiny textures: the
-rows and their columns, the sample-count images and table, the report, and `shadelab bench clouds`. No
-timing is checked, only that the work is done and measured."""
+"""The clouds bench (app/bench/clouds.py, clouds_frames.py, clouds_report.py) on tiny images, few steps and tiny
+textures: the rows and their columns, the sample-count images and table, the report, and `shadelab bench clouds`.
+No timing is checked, only that the work is done and measured."""
 from __future__ import annotations
 
 import math
@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from app.bench import WORKSPACE_TECHNIQUE, TECHNIQUES, clouds, clouds_report, harness, report
+from app.bench import WORKSPACE_TECHNIQUE, TECHNIQUES, clouds, clouds_frames, clouds_report, harness, report
 from app.io.clouds.textures import NoiseTextures
 from app.io.png import read_png
 from app.model.clouds import noise as cn
@@ -85,19 +85,20 @@ def test_registered_for_the_cli_and_the_workspace_dock():
 
 
 def test_stages_add_each_optimisation_in_figure_39s_order():
-    labels = [label for label, _method, _s in clouds.stages()]
+    labels = [label for label, _method, _s in clouds_frames.stages()]
     assert labels == ["none", "+ early exit", "+ big steps", "+ light skip", "+ detail skip", "+ buffer 1/4",
                       "+ jitter+TAA", "+ reprojection"]
-    settings = [s for _l, _m, s in clouds.stages()]
-    assert settings[0] == clouds.NONE and settings[-1] == clouds.ALL
-    assert [m for _l, m, _s in clouds.stages()][:2] == ["none", "only early exit"]
+    settings = [s for _l, _m, s in clouds_frames.stages()]
+    assert settings[0] == clouds_frames.NONE and settings[-1] == clouds_frames.ALL
+    assert [m for _l, m, _s in clouds_frames.stages()][:2] == ["none", "only early exit"]
 
 
 def test_every_row_measured_with_the_contract_columns(measured):
     bench, rows, out, _lines = measured
     methods = {r.method for r in rows}
-    expected = {"energy", "seed", "cpu energy", *clouds.BUFFERS.values(), "none", "all", *clouds.ALL_BUT,
-                *("only " + label for label, _c in clouds.OPTIMISATIONS), *(m for _l, m, _s in clouds.stages())}
+    cf = clouds_frames
+    expected = {"energy", "seed", "cpu energy", *cf.BUFFERS.values(), "none", "all", *cf.ALL_BUT,
+                *("only " + label for label, _c in cf.OPTIMISATIONS), *(m for _l, m, _s in cf.stages())}
     assert methods == expected
     for r in rows:
         assert (r.width, r.height) == SIZE and r.knob_name == "steps"
@@ -125,9 +126,9 @@ def test_exact_optimisations_match_none_and_none_matches_itself(measured):
 
 def test_sample_count_images_and_table(measured):
     bench, rows, out, _lines = measured
-    stages = clouds.stages()
+    stages = clouds_frames.stages()
     for i, (label, _method, _s) in enumerate(stages):
-        image = read_png(out / f"clouds-samples-{i}-{clouds.slug(label)}.png")
+        image = read_png(out / f"clouds-samples-{i}-{clouds_report.slug(label)}.png")
         assert image.shape == (SIZE[1], SIZE[0], 4)
     assert read_png(out / "clouds-samples-0-none.png")[..., 0].max() > 0  # lookups counted somewhere
     table = (out / "clouds-samples.md").read_text()
@@ -139,7 +140,7 @@ def test_sample_count_images_and_table(measured):
     assert counts["none"] > 0
     labels = [label for label, _m, _s in stages]
     for before, after in zip(labels, labels[1:]):
-        if after[2:] in clouds.SAVING:
+        if after[2:] in clouds_frames.SAVING:
             assert counts[after] <= counts[before] * (1 + 1e-6), (before, after)
     assert counts["+ reprojection"] < counts["none"] / 10
 

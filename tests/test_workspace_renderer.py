@@ -1,12 +1,11 @@
 """The renderer host draws every built workspace through the gl layer's mapping, with settings the
 commands build from the cvars, and releases what each renderer made."""
-import numpy as np
 import pytest
 
 from app.editor import Editor
 from app.gl.core.headless import OffscreenTarget
-from app.gl.core.workspace_renderer import EMPTY_BACKGROUND, RENDERERS, WorkspaceRenderer
-from app.model.workspace import Workspace
+from app.gl.core.workspace_renderer import RENDERERS, WorkspaceRenderer
+from app.model.workspace import MissingEntry, Workspace
 
 
 @pytest.fixture(scope="module")
@@ -28,13 +27,14 @@ def test_each_workspace_draws_something_and_releases_what_it_made(gl, editor, na
     target.release()
 
 
-def test_a_workspace_without_a_renderer_is_an_empty_background(gl):
+def test_a_workspace_without_a_renderer_is_a_clear_error_not_an_empty_background(gl):
     class Bare(Workspace):
         name = "bare"
 
     host = WorkspaceRenderer(gl)
     target = OffscreenTarget(gl, (16, 16))
-    assert host.render(target.fbo, Bare(), None) is False
-    assert np.abs(target.read()[8, 8] / 255 - np.array(EMPTY_BACKGROUND)).max() < 1 / 255 + 1e-6
+    with pytest.raises(MissingEntry, match=r"'bare' workspace has no entry in RENDERERS"):
+        host.render(target.fbo, Bare(), None)
+    assert not host.renderers
     gl.detect_framebuffer(0).use()
     target.release()

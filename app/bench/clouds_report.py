@@ -19,7 +19,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from app.bench import harness
-from app.bench.clouds import ALL, ALL_BUT, BUFFERS, NONE, OPTIMISATIONS, SAVING, CloudState, slug, stages
+from app.bench.clouds_frames import ALL, ALL_BUT, BUFFERS, NONE, OPTIMISATIONS, SAVING, CloudState, stages
 from app.bench.harness import Row
 from app.io.atomic import write_text
 from app.io.png import write_png
@@ -28,6 +28,11 @@ SPEEDUP_GOAL = 10.0      # all optimisations against none, at the same steps
 MEAN_GOAL = 2 / 255      # ... within this mean error
 REFERENCE_MEAN, REFERENCE_MAX = 2 / 255, 8 / 255  # the GPU's energy at fine steps against the CPU reference
 FINE_STEPS = 512
+
+
+def slug(label: str) -> str:
+    """A stage's label as part of its sample-count image's file name."""
+    return "".join(c if c.isalnum() else "-" for c in label.strip("+ ").lower()).strip("-").replace("--", "-")
 
 
 def find(rows: Iterable[Row], method: str, steps: float | None = None) -> Row | None:

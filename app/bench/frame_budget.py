@@ -18,6 +18,7 @@ from app.editor import Editor
 from app.gl.core.headless import OffscreenTarget
 from app.gl.core.workspace_renderer import RENDERERS, WorkspaceRenderer
 from app.io.atomic import write_text
+from app.model.workspace import WorkspaceMapping
 
 # The viewport of the editor's default 1400x860 window with its docks (measured under Xvfb; the volume's wider
 # dock leaves it 448 wide): the size a new user's frames have.
@@ -35,13 +36,13 @@ def _pan(view_command: str) -> Callable[[object], str]:
 
 
 # The bench layer's mapping from a workspace to the command that moves its view one frame's worth of a drag.
-MOVES: dict[str, Callable[[object], str]] = {
+MOVES: dict[str, Callable[[object], str]] = WorkspaceMapping("MOVES (app/bench/frame_budget.py)", {
     "snowflake": _pan("snow.view"),
     "lighting2d": _pan("lighting.view"),
     "volume": lambda state: "orbit.step 2 0",
     "clouds": lambda state: f"camera.look {state.view.yaw + 1.0!r} {state.view.pitch!r}",
     "lights3d": lambda state: f"view.orbit {state.camera.yaw + 2.0!r} {state.camera.pitch!r}",
-}
+})
 
 
 def _percentiles(values: list[float]) -> tuple[float, float, float]:

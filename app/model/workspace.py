@@ -99,6 +99,23 @@ class WorkspaceInfo:
     state: type[Workspace]
 
 
+class MissingEntry(LookupError):
+    """A workspace a layer's mapping lacks: a mistake in the code (tests/test_workspace_mappings.py), said by name."""
+
+
+class WorkspaceMapping(dict):
+    """A layer's mapping from a workspace's name to its part there; looking up a name it lacks raises MissingEntry
+    naming the mapping, where a `.get` would draw an empty background or leave a panel out without a word."""
+
+    def __init__(self, where: str, entries: dict) -> None:
+        super().__init__(entries)
+        self.where = where  # the mapping's name and file, for the message
+
+    def __missing__(self, name: str):
+        raise MissingEntry(f"the {name!r} workspace has no entry in {self.where} "
+                           "(docs/architecture.md, \"A workspace is a unit\")")
+
+
 class Workspaces:
     """The editor's workspaces in switcher order, by name; one of them is current."""
 

@@ -20,7 +20,7 @@ from app.views.menus import Menus
 from app.views.status_bar import StatusParts
 from app.views.viewport import Viewport
 from app.views.weak_callback import weak_callback
-from app.views.workspace_views import DEFAULT_DOCK_WIDTH, VIEWS
+from app.views.workspace_views import VIEWS
 
 
 class MainWindow(QMainWindow):
@@ -38,9 +38,7 @@ class MainWindow(QMainWindow):
         self.panels.addWidget(self.placeholder)
         self.tools, self.workspace_panels = {}, {}
         for state in self.editor.workspaces:
-            views = VIEWS.get(state.name)
-            if views is None:
-                continue
+            views = VIEWS[state.name]
             self.tools[state.name] = tool = views.tool(self.viewport, state, self.run) if views.tool else None
             if views.panel:
                 self.workspace_panels[state.name] = panel = views.panel(self, state, tool)
@@ -183,8 +181,7 @@ class MainWindow(QMainWindow):
         self.viewport.update()
 
     def _show_workspace(self, name: str) -> None:
-        if name in RENDERERS:
-            self._prepare(name)
+        self._prepare(name)
         self.workspace_actions[name].setChecked(True)
         self.viewport.forget_frame_times()
         self.viewport.tool = self.tools.get(name)
@@ -193,8 +190,7 @@ class MainWindow(QMainWindow):
         self.bench.show_workspace(name)
 
     def _fit_editor_dock(self, name: str) -> None:
-        width = VIEWS[name].dock_width if name in VIEWS else DEFAULT_DOCK_WIDTH
-        self.resizeDocks([self.docks["editor"]], [width], Qt.Orientation.Horizontal)
+        self.resizeDocks([self.docks["editor"]], [VIEWS[name].dock_width], Qt.Orientation.Horizontal)
 
     def reset_layout(self) -> None:
         """View > Reset Layout: the docks and toolbar where the window first put them, every one shown."""

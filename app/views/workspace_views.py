@@ -20,6 +20,7 @@ from app.views.snowflake_panel import SnowflakePanel
 from app.views.snowflake_tool import SnowflakeTool
 from app.views.volume.tool import VolumeTool
 from app.console.registry import SCRIPTS
+from app.model.workspace import WorkspaceMapping
 
 
 DEFAULT_DOCK_WIDTH = 260
@@ -83,7 +84,7 @@ def volume_panel(window, state, tool) -> QWidget:
     return painter
 
 
-VIEWS: dict[str, WorkspaceViews] = {
+VIEWS: dict[str, WorkspaceViews] = WorkspaceMapping("VIEWS (app/views/workspace_views.py)", {
     "lighting2d": WorkspaceViews(Lighting2DTool, lighting2d_panel, 300),
     "volume": WorkspaceViews(VolumeTool, volume_panel, 520),
     "clouds": WorkspaceViews(CloudsTool, lambda window, state, tool: Scrolled(CloudsPanel(window.editor, state,
@@ -91,4 +92,4 @@ VIEWS: dict[str, WorkspaceViews] = {
     "lights3d": WorkspaceViews(Lights3DTool, lambda window, state, tool: Scrolled(Lights3DPanel(window.editor, state,
                                                                                                window.run)), 320),
     "snowflake": WorkspaceViews(SnowflakeTool, lambda window, state, tool: SnowflakePanel(state, window.run)),
-}
+})

@@ -15,16 +15,17 @@ from app.gl.core.renderer_base import WorkspaceRendererBase
 from app.gl.core.shaders import ShaderLibrary
 from app.gl.snowflake.workspace import SnowflakeWorkspaceRenderer
 from app.gl.volume.workspace import VolumeWorkspaceRenderer
+from app.model.workspace import WorkspaceMapping
 from app.resources import SHADERS
 
-RENDERERS: dict[str, type[WorkspaceRendererBase]] = {
+RENDERERS: dict[str, type[WorkspaceRendererBase]] = WorkspaceMapping("RENDERERS (app/gl/core/workspace_renderer.py)", {
     "lighting2d": Lighting2DWorkspaceRenderer,
     "volume": VolumeWorkspaceRenderer,
     "clouds": CloudsWorkspaceRenderer,
     "lights3d": Lights3DWorkspaceRenderer,
     "snowflake": SnowflakeWorkspaceRenderer,
-}
-EMPTY_BACKGROUND = (0.16, 0.16, 0.18, 1.0)
+})
+EMPTY_BACKGROUND = (0.16, 0.16, 0.18, 1.0)  # while a renderer prepares
 
 
 class WorkspaceRenderer:
@@ -62,11 +63,7 @@ class WorkspaceRenderer:
         return reduced
 
     def _draw(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool, budget_ms: float) -> bool:
-        kind = RENDERERS.get(state.name)
-        if kind is None:
-            fbo.clear(*EMPTY_BACKGROUND)
-            self._last = self._last_budget = None
-            return False
+        kind = RENDERERS[state.name]
         if state.name not in self.renderers:
             self.renderers[state.name] = kind(self.ctx, self.shaders)
             self.budgets[state.name] = FrameBudget(self.ctx, self.shaders, kind.LEVELS)

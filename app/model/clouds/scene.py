@@ -7,8 +7,8 @@ above the origin at its altitude (the wind moves the clouds, not the camera)."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
-from dataclasses import dataclass, fields, replace
+from typing import TYPE_CHECKING, get_type_hints
+from dataclasses import dataclass, field, fields, replace
 
 if TYPE_CHECKING:
     import numpy as np
@@ -53,43 +53,70 @@ class Param:
     choices: tuple = ()
 
 
-# Every parameter of the seed's demo UI (its prefab's values as defaults), and ours after them.
-PARAMS: tuple[Param, ...] = (
-    Param("coverage", 1.05, 0.0, 2.0, "weather coverage (0 clear .. 2 overcast)"),
-    Param("density", 1.0, 0.0, 2.0, "optical density: extinction multiplier"),
-    Param("shape_scale", 0.3, 0.0, 1.0, "shape noise frequency"),
-    Param("detail_scale", 13.9, 0.0, 50.0, "detail noise frequency, relative to the shape's"),
-    Param("shape_min", 0.47, 0.0, 1.0, "shape modifier: the shape noise's low end, remapped to 0"),
-    Param("shape_max", 0.8, 0.0, 1.0, "shape modifier: the shape noise's high end, remapped to 1"),
-    Param("detail_modifier", 0.4, 0.0, 1.0, "how far the detail noise erodes the edges"),
-    Param("curl_scale", 2.9, 0.0, 20.0, "curl noise frequency, relative to the shape's"),
-    Param("curl_amount", 231.0, 0.0, 1000.0, "curl distortion at the layer's top, metres (+150)"),
-    Param("weather_scale", 0.1, 0.01, 1.0, "weather map frequency"),
-    Param("high_coverage", 1.24, 0.0, 2.0, "high (cirrus) cloud coverage"),
-    Param("high_coverage_scale", 0.18, 0.01, 2.0, "high cloud coverage frequency"),
-    Param("high_scale", 0.028, 0.001, 1.0, "high cloud texture frequency"),
-    Param("ambient", 0.3, 0.0, 1.0, "ambient light factor"),
-    Param("direct", 1.0, 0.0, 1.5, "sun light factor"),
-    Param("hg_forward", 0.54, 0.0, 0.99, "Henyey-Greenstein forward lobe g"),
-    Param("hg_back", 0.5, 0.0, 0.99, "Henyey-Greenstein back lobe g (used as -g)"),
-    Param("light_step", 48.0, 1.0, 200.0, "light march step length, metres"),
-    Param("cone_radius", 0.4, 0.0, 2.0, "light cone radius, in light steps"),
-    Param("wind_speed", 15.9, 0.0, 200.0, "low cloud (noise) wind speed, m/s"),
-    Param("wind_dir", -22.4, -360.0, 360.0, "low cloud wind direction, degrees"),
-    Param("weather_wind_speed", 25.0, 0.0, 200.0, "weather map wind speed, m/s"),
-    Param("weather_wind_dir", 5.0, -360.0, 360.0, "weather map wind direction, degrees"),
-    Param("high_wind_speed", 49.2, 0.0, 400.0, "high cloud wind speed, m/s"),
-    Param("high_wind_dir", 77.8, -360.0, 360.0, "high cloud wind direction, degrees"),
-    Param("time_scale", 1.0, -25.0, 25.0, "wind time multiplier"),
-    Param("weather_blend", 30.0, 0.0, 60.0, "seconds a new weather takes to blend in"),
-    Param("shape_noise", 1, 0, 1, "sample the shape noise (0: a constant 0.7, the seed's debug toggle)", True),
-    Param("detail_noise", 1, 0, 1, "erode with the detail noise", True),
-    Param("curl_noise", 1, 0, 1, "distort the detail with curl noise", True),
-    Param("light_samples", 6, 6, 30, "light march samples: 6 (5 cone + 1 far) or 30 (clouds shadow each other)",
-          True, (6, 30)),
-    Param("multiscatter", 1, 0, 1, "multiple scattering by octaves (0: the seed's double Beer)", True),
-    Param("ground_shadows", 1, 0, 1, "cloud shadows on the ground", True),
-)
+def _param(default: float, lo: float, hi: float, text: str, choices: tuple = ()):
+    """A CloudParams field that carries its range and help text, so each parameter is written once."""
+    return field(default=default, metadata={"lo": lo, "hi": hi, "text": text, "choices": choices})
+
+
+@dataclass(frozen=True)
+class CloudParams:
+    """Every parameter of the seed's demo UI (its prefab's values as defaults), and ours after them; an `int`
+    field is a whole number (a switch or a choice)."""
+    coverage: float = _param(1.05, 0.0, 2.0, "weather coverage (0 clear .. 2 overcast)")
+    density: float = _param(1.0, 0.0, 2.0, "optical density: extinction multiplier")
+    shape_scale: float = _param(0.3, 0.0, 1.0, "shape noise frequency")
+    detail_scale: float = _param(13.9, 0.0, 50.0, "detail noise frequency, relative to the shape's")
+    shape_min: float = _param(0.47, 0.0, 1.0, "shape modifier: the shape noise's low end, remapped to 0")
+    shape_max: float = _param(0.8, 0.0, 1.0, "shape modifier: the shape noise's high end, remapped to 1")
+    detail_modifier: float = _param(0.4, 0.0, 1.0, "how far the detail noise erodes the edges")
+    curl_scale: float = _param(2.9, 0.0, 20.0, "curl noise frequency, relative to the shape's")
+    curl_amount: float = _param(231.0, 0.0, 1000.0, "curl distortion at the layer's top, metres (+150)")
+    weather_scale: float = _param(0.1, 0.01, 1.0, "weather map frequency")
+    high_coverage: float = _param(1.24, 0.0, 2.0, "high (cirrus) cloud coverage")
+    high_coverage_scale: float = _param(0.18, 0.01, 2.0, "high cloud coverage frequency")
+    high_scale: float = _param(0.028, 0.001, 1.0, "high cloud texture frequency")
+    ambient: float = _param(0.3, 0.0, 1.0, "ambient light factor")
+    direct: float = _param(1.0, 0.0, 1.5, "sun light factor")
+    hg_forward: float = _param(0.54, 0.0, 0.99, "Henyey-Greenstein forward lobe g")
+    hg_back: float = _param(0.5, 0.0, 0.99, "Henyey-Greenstein back lobe g (used as -g)")
+    light_step: float = _param(48.0, 1.0, 200.0, "light march step length, metres")
+    cone_radius: float = _param(0.4, 0.0, 2.0, "light cone radius, in light steps")
+    wind_speed: float = _param(15.9, 0.0, 200.0, "low cloud (noise) wind speed, m/s")
+    wind_dir: float = _param(-22.4, -360.0, 360.0, "low cloud wind direction, degrees")
+    weather_wind_speed: float = _param(25.0, 0.0, 200.0, "weather map wind speed, m/s")
+    weather_wind_dir: float = _param(5.0, -360.0, 360.0, "weather map wind direction, degrees")
+    high_wind_speed: float = _param(49.2, 0.0, 400.0, "high cloud wind speed, m/s")
+    high_wind_dir: float = _param(77.8, -360.0, 360.0, "high cloud wind direction, degrees")
+    time_scale: float = _param(1.0, -25.0, 25.0, "wind time multiplier")
+    weather_blend: float = _param(30.0, 0.0, 60.0, "seconds a new weather takes to blend in")
+    shape_noise: int = _param(1, 0, 1, "sample the shape noise (0: a constant 0.7, the seed's debug toggle)")
+    detail_noise: int = _param(1, 0, 1, "erode with the detail noise")
+    curl_noise: int = _param(1, 0, 1, "distort the detail with curl noise")
+    light_samples: int = _param(6, 6, 30,
+                                "light march samples: 6 (5 cone + 1 far) or 30 (clouds shadow each other)", (6, 30))
+    multiscatter: int = _param(1, 0, 1, "multiple scattering by octaves (0: the seed's double Beer)")
+    ground_shadows: int = _param(1, 0, 1, "cloud shadows on the ground")
+
+    def with_value(self, name: str, value: float) -> "CloudParams":
+        """A copy with `name` set, or ParamError saying what is allowed (nothing changes)."""
+        return self.with_values({name: value})
+
+    def with_values(self, values: dict[str, float]) -> "CloudParams":
+        """A copy with every value of `values` set, all checked first, or ParamError."""
+        checked = {name: _checked(name, value) for name, value in values.items()}
+        out = replace(self, **checked)
+        if out.shape_min >= out.shape_max:
+            raise ParamError("shape_min must stay below shape_max")
+        return out
+
+    def values(self) -> dict[str, float]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+# The parameters as the console, the panel and the scene file read them: CloudParams' fields, in order.
+_TYPES = get_type_hints(CloudParams)
+PARAMS: tuple[Param, ...] = tuple(Param(f.name, f.default, f.metadata["lo"], f.metadata["hi"], f.metadata["text"],
+                                        _TYPES[f.name] is int, f.metadata["choices"]) for f in fields(CloudParams))
 PARAM = {p.name: p for p in PARAMS}
 
 
@@ -112,58 +139,6 @@ def _checked(name: str, value: float) -> float:
     if not p.lo <= value <= p.hi:
         raise ParamError(f"{name} must be within {p.lo:g}..{p.hi:g}, got {value:g}")
     return value
-
-
-@dataclass(frozen=True)
-class CloudParams:
-    coverage: float = PARAM["coverage"].default
-    density: float = PARAM["density"].default
-    shape_scale: float = PARAM["shape_scale"].default
-    detail_scale: float = PARAM["detail_scale"].default
-    shape_min: float = PARAM["shape_min"].default
-    shape_max: float = PARAM["shape_max"].default
-    detail_modifier: float = PARAM["detail_modifier"].default
-    curl_scale: float = PARAM["curl_scale"].default
-    curl_amount: float = PARAM["curl_amount"].default
-    weather_scale: float = PARAM["weather_scale"].default
-    high_coverage: float = PARAM["high_coverage"].default
-    high_coverage_scale: float = PARAM["high_coverage_scale"].default
-    high_scale: float = PARAM["high_scale"].default
-    ambient: float = PARAM["ambient"].default
-    direct: float = PARAM["direct"].default
-    hg_forward: float = PARAM["hg_forward"].default
-    hg_back: float = PARAM["hg_back"].default
-    light_step: float = PARAM["light_step"].default
-    cone_radius: float = PARAM["cone_radius"].default
-    wind_speed: float = PARAM["wind_speed"].default
-    wind_dir: float = PARAM["wind_dir"].default
-    weather_wind_speed: float = PARAM["weather_wind_speed"].default
-    weather_wind_dir: float = PARAM["weather_wind_dir"].default
-    high_wind_speed: float = PARAM["high_wind_speed"].default
-    high_wind_dir: float = PARAM["high_wind_dir"].default
-    time_scale: float = PARAM["time_scale"].default
-    weather_blend: float = PARAM["weather_blend"].default
-    shape_noise: int = 1
-    detail_noise: int = 1
-    curl_noise: int = 1
-    light_samples: int = 6
-    multiscatter: int = 1
-    ground_shadows: int = 1
-
-    def with_value(self, name: str, value: float) -> "CloudParams":
-        """A copy with `name` set, or ParamError saying what is allowed (nothing changes)."""
-        return self.with_values({name: value})
-
-    def with_values(self, values: dict[str, float]) -> "CloudParams":
-        """A copy with every value of `values` set, all checked first, or ParamError."""
-        checked = {name: _checked(name, value) for name, value in values.items()}
-        out = replace(self, **checked)
-        if out.shape_min >= out.shape_max:
-            raise ParamError("shape_min must stay below shape_max")
-        return out
-
-    def values(self) -> dict[str, float]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @dataclass(frozen=True)
