@@ -2,8 +2,12 @@
 import numpy as np
 import pytest
 
+from app.commands import volume
+from app.console.console import Console
 from app.console.demo import VirtualClock
+from app.console.registry import CommandError
 from app.editor import Editor
+from app.model.volume.workspace import VolumeWorkspace
 
 
 @pytest.fixture
@@ -192,3 +196,23 @@ def test_small_cornell_name_keeps_its_walls():
     e.execute("sample cornell_name 16")
     green = np.array([40, 170, 60, 255])
     assert (voxels(e).data[:-1, 1:-1, -1] == green).all()  # no letter wrapped onto the right wall
+
+
+def test_a_command_is_a_function_that_runs_alone():
+    """No console dispatch: each verb takes the workspace's context and does its work."""
+    ctx = volume.Ctx(Console(), VolumeWorkspace())
+    volume.new(ctx, 4, 3, 2)
+    volume.voxel(ctx, 3, 2, 1, 10, 20, 30, 255)
+    volume.rotate(ctx, "z")
+    voxels = ctx.state.volume.voxels
+    assert voxels.size == (3, 4, 2) and voxels.pick(0, 3, 1) == (10, 20, 30, 255)
+    assert ctx.state.volume.history.undo_name() == "Rotate"
+    with pytest.raises(CommandError, match="outside 0..1 along z"):
+        volume.slice_args(ctx, "z", 2)
+
+
+def test_every_declared_command_is_registered_in_the_workspace(editor):
+    registry = editor.console.registry
+    scoped = {key for key in registry.commands if key.startswith("volume:")}
+    assert scoped == {f"volume:{d.name}" for d in volume.COMMANDS.declared}
+    assert len(scoped) == 31  # as many as the closure registered: none lost in the move

@@ -278,6 +278,24 @@ def test_stroke_returns_the_box_of_changed_voxels_only():
     assert painted(vol)[[0, 4]].sum() == 0 and painted(vol).sum() == 24
 
 
+def test_a_preview_is_shown_but_put_back_before_any_edit_undo_or_redo():
+    vol = Volume.new(6, 6, 1)
+    vol.paint.set_voxel(0, 0, 0, BLUE)
+    key, digest = vol.history.key, vol.voxels.digest()
+    assert vol.paint.preview_stroke("z", 0, 1, RED, [(1, 1), (4, 1)]) == Box(1, 1, 0, 5, 2, 1)
+    assert painted(vol)[1].sum() == 4 and vol.history.undo_depth == 1 and vol.history.key != key
+    vol.paint.preview_stroke("z", 0, 1, RED, [(1, 3)])  # the next preview replaces it
+    assert painted(vol)[1].sum() == 0 and painted(vol)[3].sum() == 1
+    assert vol.history.undo() and vol.voxels.digest() == Volume.new(6, 6, 1).voxels.digest()  # preview and step
+    assert vol.history.redo() and vol.voxels.digest() == digest
+    vol.paint.preview_stroke("z", 0, 1, RED, [(2, 2)])
+    vol.paint.fill("z", 0, 5, 5, BLUE)  # an edit: the fill sees the slice without the preview
+    assert vol.voxels.pick(2, 2, 0) == BLUE and vol.history.undo_depth == 2
+    vol.paint.preview_stroke("z", 0, 1, RED, [(3, 3)])
+    vol.history.clear_preview()
+    assert vol.history.key == (2, 2, False) and (vol.voxels.data[..., 2] == 255).all()
+
+
 # --- fill -------------------------------------------------------------------------------------
 
 
