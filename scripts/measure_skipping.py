@@ -12,7 +12,7 @@ from app.gl.volume.raytracer import RayTracer, TraceSettings
 from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
 from app.model.volume.render_modes import MODES
-from app.model.volume.volume import Volume
+from app.model.volume.voxels import Voxels
 from app.model.volume.samples import cornell_box
 from app.model.volume.view import VolumeView
 from app.reference.volume import render as reference
@@ -26,8 +26,8 @@ tracer = RayTracer(ctx, ShaderLibrary(ctx, [SHADERS]))
 target = OffscreenTarget(ctx, SIZE, samples=0)
 
 
-def gpu(volume, view, **settings) -> np.ndarray:
-    tracer.render(target.fbo, volume, view, TraceSettings(slice_planes=False, **settings))
+def gpu(voxels, view, **settings) -> np.ndarray:
+    tracer.render(target.fbo, voxels, view, TraceSettings(slice_planes=False, **settings))
     return target.read()[..., :3].astype(float)
 
 
@@ -46,14 +46,14 @@ rng = np.random.default_rng(13)
 pairs, over, worst, worst_f8, against_cpu = 0, 0, 0.0, 0.0, []
 for v in range(24):
     data = sparse_volume(rng, KINDS[v % len(KINDS)], tuple(int(s) for s in rng.integers(8, 97, 3)))
-    volume = Volume(data)
+    voxels = Voxels(data)
     for c in range(16):
         view, steps = VolumeView(camera=random_camera(rng)), random_steps(rng)
-        f5, f7 = gpu(volume, view, mode=5, **steps), gpu(volume, view, mode=7, **steps)
+        f5, f7 = gpu(voxels, view, mode=5, **steps), gpu(voxels, view, mode=7, **steps)
         difference = float(np.abs(f5 - f7).max())
         worst, over = max(worst, difference), over + (difference > 1)
         if c % 4 == 0:
-            f8 = gpu(volume, view, mode=8, **steps) - gpu(volume, view, mode=8, distance_scale=0.0, **steps)
+            f8 = gpu(voxels, view, mode=8, **steps) - gpu(voxels, view, mode=8, distance_scale=0.0, **steps)
             worst_f8 = max(worst_f8, float(np.abs(f8).max()))
         if pairs % 8 == 0:
             truth = cpu(data, view, 5, steps)
@@ -70,5 +70,5 @@ data = cornell_box(64)
 view = VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=3.4))  # the bench's Cornell camera
 steps = {"steps": 128, "shadow_steps": 21}
 for mode in (5, 6):
-    rmse = np.sqrt(((gpu(Volume(data), view, mode=mode, **steps) - cpu(data, view, mode, steps)) ** 2).mean()) / 255
+    rmse = np.sqrt(((gpu(Voxels(data), view, mode=mode, **steps) - cpu(data, view, mode, steps)) ** 2).mean()) / 255
     print(f"Cornell box F{mode} against the CPU at cl_steps 128: RMSE {rmse:.4f}")

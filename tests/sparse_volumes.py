@@ -69,8 +69,8 @@ def random_steps(rng: np.random.Generator) -> dict:
 def random_edit(rng: np.random.Generator, volume) -> None:
     """A stroke of a random colour, or an erasure (alpha 0) through a voxel that holds something."""
     axis = str(rng.choice(["x", "y", "z"]))
-    us, vs = volume.slice_size(axis)
-    held = np.argwhere(volume.data[..., 3] > 0)
+    us, vs = volume.voxels.slice_size(axis)
+    held = np.argwhere(volume.voxels.data[..., 3] > 0)
     erase = len(held) and rng.random() < 0.5
     if erase:
         z, y, x = held[rng.integers(len(held))]
@@ -78,7 +78,7 @@ def random_edit(rng: np.random.Generator, volume) -> None:
         points = [(int(u), int(v)), (int(u + rng.integers(-3, 4)), int(v + rng.integers(-3, 4)))]
         colour = (0, 0, 0, 0)
     else:
-        index = int(rng.integers(volume.depth(axis)))
+        index = int(rng.integers(volume.voxels.depth(axis)))
         points = [(int(rng.integers(us)), int(rng.integers(vs))) for _ in range(int(rng.integers(1, 4)))]
         colour = tuple(int(c) for c in _rgba(rng, 1)[0])
-    volume.stroke(axis, int(index), int(rng.integers(1, 4)), colour, points)
+    volume.paint.stroke(axis, int(index), int(rng.integers(1, 4)), colour, points)

@@ -44,7 +44,7 @@ def test_open_picks_the_workspace_of_each_format(editor, tmp_path):
     assert opened == {"f_concave_star.json": "lighting2d", "clouds.json": "clouds", "lights3d.json": "lights3d",
                       "box.r3": "volume", "snowflake.json": "snowflake"}
     assert editor.workspaces["lighting2d"].scene.hulls[0].points.shape[0] > 3  # the star's points
-    assert editor.workspaces["volume"].volume.size == (16, 16, 16)
+    assert editor.workspaces["volume"].volume.voxels.size == (16, 16, 16)
 
 
 def test_open_refuses_what_no_workspace_opens_and_changes_nothing(editor, tmp_path):
@@ -111,10 +111,10 @@ def test_new_and_samples_leave_an_untitled_scene_and_volume_verbs_name_the_file(
     assert editor.execute("load v.r3")
     assert current(editor) == (str(tmp_path / "v.r3"), False)
     assert editor.execute("scene.new")  # an empty volume of the same size
-    assert editor.workspaces["volume"].volume.size == (64, 64, 64)
-    assert not editor.workspaces["volume"].volume.data.any()
+    assert editor.workspaces["volume"].volume.voxels.size == (64, 64, 64)
+    assert not editor.workspaces["volume"].volume.voxels.data.any()
     assert editor.execute("undo")  # New is an undo step like any other
-    assert editor.workspaces["volume"].volume.data.any()
+    assert editor.workspaces["volume"].volume.voxels.data.any()
 
 
 def test_a_volume_found_elsewhere_is_the_document_saved_back_to(editor, tmp_path, user_config_dir):
@@ -130,7 +130,7 @@ def test_a_volume_found_elsewhere_is_the_document_saved_back_to(editor, tmp_path
     assert editor.execute("voxel 1 1 1 255 0 0 255") and editor.execute("scene.save")
     assert not (tmp_path / "v.r3").exists()
     assert editor.execute("scene.new") and editor.execute(f"load {user_config_dir / 'v.r3'}")
-    assert editor.workspaces["volume"].volume.pick(1, 1, 1) == (255, 0, 0, 255)  # the edit went to that file
+    assert editor.workspaces["volume"].volume.voxels.pick(1, 1, 1) == (255, 0, 0, 255)  # the edit went to that file
     demos = tmp_path / "demos"
     demos.mkdir()
     assert editor.execute(f"save {demos / 'start.r3'}")
@@ -259,13 +259,13 @@ def test_a_stroke_previewed_under_the_mouse_hashes_the_volume_once_not_per_move(
     """A preview changes the volume's version at every move; the document's digest (a hash of every voxel) is kept
     by the history instead, so hovering with the brush does not hash the volume each time; an edit, its undo and
     the preview's end each do, and the document is modified exactly while the edit stands."""
-    from app.model.volume.volume import Volume
+    from app.model.volume.voxels import Voxels
 
     assert editor.execute("workspace volume") and editor.execute("sample cornell_box 16")
     editor.documents.forget_changes()
     hashed = []
-    digest = Volume.digest
-    monkeypatch.setattr(Volume, "digest", lambda self: hashed.append(1) or digest(self))
+    digest = Voxels.digest
+    monkeypatch.setattr(Voxels, "digest", lambda self: hashed.append(1) or digest(self))
     for x in range(2, 12):
         assert editor.execute(f"stroke.preview z 8 1 255 0 0 255 {x} 5")
         editor.documents.modified(editor.current)

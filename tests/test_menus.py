@@ -83,7 +83,7 @@ def test_a_painted_stroke_is_undone_by_name(window, qtbot):
     qtbot.mouseRelease(canvas, Qt.MouseButton.LeftButton, pos=at[1])
     assert window.menus.undo.text() == "&Undo Stroke"
     qtbot.keyClick(canvas, Qt.Key.Key_Z, Ctrl)  # the painter has the keyboard: the shortcut still undoes
-    assert not window.editor.current.volume.data.any()
+    assert not window.editor.current.volume.voxels.data.any()
     assert window.menus.undo.text() == "&Undo New Volume"
 
 

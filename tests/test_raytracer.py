@@ -8,6 +8,7 @@ from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
 from app.model.volume.render_modes import MODES
 from app.model.volume.volume import Volume
+from app.model.volume.voxels import Voxels
 from app.model.volume.samples import coords3d, cornell_box
 from app.model.volume.view import VolumeView
 from app.reference.volume import Scene, render as reference
@@ -23,7 +24,7 @@ def tracer(gl):
 
 def gpu(gl, tracer, data, view, size=SIZE, **settings):
     target = OffscreenTarget(gl, size, samples=0)
-    tracer.render(target.fbo, Volume(data), view, TraceSettings(slice_planes=False, **settings))
+    tracer.render(target.fbo, Voxels(data), view, TraceSettings(slice_planes=False, **settings))
     image = target.read()[..., :3] / 255.0
     target.release()
     return image
@@ -109,7 +110,7 @@ def test_distance_skipping_takes_fewer_samples(gl, tracer):
     fbo = gl.framebuffer([gl.renderbuffer(SIZE, 4, dtype="f4")])
     counts = {}
     for mode in (5, 7):
-        tracer.render(fbo, Volume(data), into, TraceSettings(mode=mode, debug_samples=True, slice_planes=False))
+        tracer.render(fbo, Voxels(data), into, TraceSettings(mode=mode, debug_samples=True, slice_planes=False))
         counts[mode] = np.frombuffer(fbo.read(components=4, dtype="f4"), "f4")[0::4].mean()
     target.release()
     assert counts[7] < 0.8 * counts[5]
@@ -123,18 +124,18 @@ def test_distance_texture_clamps_after_an_edit_and_refines_when_idle(gl, tracer)
 
     volume = Volume(cornell_box(32))
     texture = DistanceTexture(gl)
-    texture.sync(volume)
-    volume.stroke("z", 16, 3, (255, 0, 0, 255), [(10, 10), (20, 12)])
-    texture.sync(volume)
-    exact = distance_field(volume.data)
+    texture.sync(volume.voxels)
+    volume.paint.stroke("z", 16, 3, (255, 0, 0, 255), [(10, 10), (20, 12)])
+    texture.sync(volume.voxels)
+    exact = distance_field(volume.voxels.data)
     gpu_field = np.frombuffer(texture.texture.read(), "f4").reshape(exact.shape)
     assert texture.stale and (gpu_field <= exact + 1e-4).all()  # never more than the truth: skipping stays safe
     assert (gpu_field[16, 11, 10:20] == 0).all()
-    volume.undo()  # erasing: the clamped field stays small, which is slower but still safe
-    texture.sync(volume)
+    volume.history.undo()  # erasing: the clamped field stays small, which is slower but still safe
+    texture.sync(volume.voxels)
     assert texture.refine() and not texture.stale
     np.testing.assert_allclose(np.frombuffer(texture.texture.read(), "f4").reshape(exact.shape),
-                               distance_field(volume.data))
+                               distance_field(volume.voxels.data))
 
 
 def rmse(a, b):

@@ -8,6 +8,7 @@ from app.gl.core.headless import OffscreenTarget
 from app.gl.volume.raytracer import RayTracer, TraceSettings
 from app.gl.core.shaders import ShaderLibrary
 from app.model.volume.volume import Volume
+from app.model.volume.voxels import Voxels
 from app.model.volume.view import VolumeView
 from app.resources import SHADERS
 from tests.sparse_volumes import KINDS, random_camera, random_edit, random_steps, sparse_volume
@@ -29,12 +30,12 @@ class Renders:
         self.target = OffscreenTarget(gl, SIZE, samples=0)
         self.counts = gl.framebuffer([gl.renderbuffer(SIZE, 4, dtype="f4")])
 
-    def image(self, volume, view, **settings) -> np.ndarray:
-        self.tracer.render(self.target.fbo, volume, view, TraceSettings(slice_planes=False, **settings))
+    def image(self, voxels, view, **settings) -> np.ndarray:
+        self.tracer.render(self.target.fbo, voxels, view, TraceSettings(slice_planes=False, **settings))
         return self.target.read()[..., :3] / 255.0
 
-    def samples(self, volume, view, **settings) -> float:
-        self.tracer.render(self.counts, volume, view, TraceSettings(slice_planes=False, debug_samples=True, **settings))
+    def samples(self, voxels, view, **settings) -> float:
+        self.tracer.render(self.counts, voxels, view, TraceSettings(slice_planes=False, debug_samples=True, **settings))
         return float(np.frombuffer(self.counts.read(components=4, dtype="f4"), "f4")[0::4].mean())
 
     def release(self) -> None:
@@ -49,11 +50,11 @@ def renders(gl, tracer):
     r.release()
 
 
-def difference(renders, volume, view, steps, with_f8: bool) -> float:
+def difference(renders, voxels, view, steps, with_f8: bool) -> float:
     """max |F5 - F7|, and with_f8 also max |F8 - F8 without skipping|, for one camera."""
     pairs = [({"mode": 7}, {"mode": 5})] + [({"mode": 8}, {"mode": 8, "distance_scale": 0.0})] * with_f8
-    return max(float(np.abs(renders.image(volume, view, **skipped, **steps)
-                             - renders.image(volume, view, **plain, **steps)).max()) for skipped, plain in pairs)
+    return max(float(np.abs(renders.image(voxels, view, **skipped, **steps)
+                             - renders.image(voxels, view, **plain, **steps)).max()) for skipped, plain in pairs)
 
 
 def test_skipping_leaves_random_sparse_scenes_unchanged(renders):
@@ -64,13 +65,13 @@ def test_skipping_leaves_random_sparse_scenes_unchanged(renders):
     worst, plain, skipped = 0.0, 0.0, 0.0
     for v in range(12):
         shape = tuple(int(s) for s in rng.integers(8, 65, 3))
-        volume = Volume(sparse_volume(rng, KINDS[v % len(KINDS)], shape))
+        voxels = Voxels(sparse_volume(rng, KINDS[v % len(KINDS)], shape))
         for c in range(10):
             view, steps = VolumeView(camera=random_camera(rng)), random_steps(rng)
-            worst = max(worst, difference(renders, volume, view, steps, c % 3 == 0))
+            worst = max(worst, difference(renders, voxels, view, steps, c % 3 == 0))
             if c == 0:  # the skipping really happens: fewer samples for the same picture
-                plain += renders.samples(volume, view, mode=5, **steps)
-                skipped += renders.samples(volume, view, mode=7, **steps)
+                plain += renders.samples(voxels, view, mode=5, **steps)
+                skipped += renders.samples(voxels, view, mode=7, **steps)
     assert worst <= TOLERANCE
     assert skipped < 0.8 * plain
 
@@ -82,12 +83,12 @@ def test_skipping_after_edits_with_the_clamped_field(renders, tracer):
     for v in range(6):
         shape = tuple(int(s) for s in rng.integers(12, 49, 3))
         volume = Volume(sparse_volume(rng, KINDS[v % len(KINDS)], shape))
-        renders.image(volume, VolumeView(), mode=7)  # the exact field, before any edit
+        renders.image(volume.voxels, VolumeView(), mode=7)  # the exact field, before any edit
         for r in range(6):
             for _edit in range(int(rng.integers(1, 4))):
                 random_edit(rng, volume)
             view = VolumeView(camera=random_camera(rng))
-            worst = max(worst, difference(renders, volume, view, random_steps(rng), r % 3 == 0))
+            worst = max(worst, difference(renders, volume.voxels, view, random_steps(rng), r % 3 == 0))
             clamped += tracer.distance.stale  # the clamped field, not a rebuild
     assert worst <= TOLERANCE
     assert clamped >= 30  # of the 36 pictures

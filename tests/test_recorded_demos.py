@@ -18,7 +18,7 @@ def legacy_digest(editor: Editor, cvar_names: list[str]) -> dict[str, str]:
     text = "".join(f"{n}={cvars[n].serialise()};" for n in sorted(cvar_names))
     view = editor.workspaces["volume"].view
     return {"snowflake": editor.workspaces["snowflake"].scene.digest(),
-            "volume": editor.workspaces["volume"].volume.digest(),
+            "volume": editor.workspaces["volume"].volume.voxels.digest(),
             "lighting2d": editor.workspaces["lighting2d"].scene.digest(),
             "cvars": hashlib.sha256(text.encode()).hexdigest()[:16],
             "view": hashlib.sha256(repr((view.key(), editor.workspace)).encode()).hexdigest()[:16]}

@@ -16,10 +16,11 @@ from app.editor import Editor
 from app.gl.volume.raytracer import RayTracer
 from app.gl.core.shaders import ShaderLibrary
 from app.io.volume_formats import read_volume
-from app.model.volume import volume as vm
+from app.model.volume import voxels as voxels_model
 from app.model.volume.render_modes import TraceSettings
 from app.model.volume.scalars import COLORMAPS, TransferFunction, colour, default_window
 from app.model.volume.view import VolumeView
+from app.model.volume.volume import Volume
 from app.resources import SHADERS
 
 SHAPE = (16, 18, 20)  # depth, height, width: no two sides alike
@@ -52,7 +53,7 @@ def grey(values: np.ndarray, low: float, high: float) -> np.ndarray:
     return np.stack([level] * 4, axis=-1)
 
 
-def volume(editor: Editor) -> vm.Volume:
+def volume(editor: Editor) -> Volume:
     return editor.workspaces["volume"].volume
 
 
@@ -72,7 +73,7 @@ WRITERS = {
 }
 
 
-def load(editor: Editor, tmp_path, values: np.ndarray, name: str) -> vm.Volume:
+def load(editor: Editor, tmp_path, values: np.ndarray, name: str) -> Volume:
     """Write values to tmp_path/name in the format of its extension, load it in the editor; the volume."""
     WRITERS[name.partition(".")[2]](tmp_path / name, values)
     assert editor.execute(f"load {name}")
@@ -84,14 +85,14 @@ def load(editor: Editor, tmp_path, values: np.ndarray, name: str) -> vm.Volume:
 def test_each_dtype_and_format_loads_through_the_default_window(volume_editor, tmp_path, dtype, kind):
     values = phantom(dtype)
     vol = load(volume_editor, tmp_path, values, f"scan.{kind}")
-    np.testing.assert_array_equal(vol.scalars.values, values)
-    assert vol.scalars.values.dtype == values.dtype and vol.size == SHAPE[::-1]
+    np.testing.assert_array_equal(vol.voxels.scalars.values, values)
+    assert vol.voxels.scalars.values.dtype == values.dtype and vol.voxels.size == SHAPE[::-1]
     _background, base, step = PHANTOMS[dtype]
-    assert vol.scalars.transfer == TransferFunction(base + step, base + 99 * step, "grey")  # percentiles 1 and 99
+    assert vol.voxels.scalars.transfer == TransferFunction(base + step, base + 99 * step, "grey")  # percentiles 1, 99
     expected = grey(values, base + step, base + 99 * step)
     # 16-bit values are placed in float32: a level exactly between two may round the other way
-    assert np.abs(vol.data.astype(int) - expected).max() <= 1
-    assert (vol.data[values == values.min()] == 0).all()  # the background is transparent
+    assert np.abs(vol.voxels.data.astype(int) - expected).max() <= 1
+    assert (vol.voxels.data[values == values.min()] == 0).all()  # the background is transparent
     assert f"window {base + step:g}..{base + 99 * step:g}" in infos(volume_editor)[-1]
 
 
@@ -99,51 +100,51 @@ def test_the_window_changes_without_reloading_and_each_change_is_one_undo_step(v
     values = phantom("int16")
     vol = load(volume_editor, tmp_path, values, "ct.nrrd")
     (tmp_path / "ct.nrrd").unlink()  # nothing is read again
-    loaded, depth = vol.data.copy(), vol.undo_depth
+    loaded, depth = vol.voxels.data.copy(), vol.history.undo_depth
     assert volume_editor.execute("vol.window -1000 20")  # 255 levels over 1020: exact quarters
-    np.testing.assert_array_equal(vol.data, grey(values, -1000, 20))
+    np.testing.assert_array_equal(vol.voxels.data, grey(values, -1000, 20))
     assert volume_editor.execute("vol.colormap viridis")
     viridis = COLORMAPS["viridis"]
-    assert tuple(vol.data[values >= 20][0]) == (*viridis[-1][1], 255)  # at the top of the window: opaque
-    assert tuple(vol.data[values <= -1000][0]) == (*viridis[0][1], 0)  # at the bottom: transparent
-    windowed = vol.data.copy()
-    assert vol.undo_depth == depth + 2
+    assert tuple(vol.voxels.data[values >= 20][0]) == (*viridis[-1][1], 255)  # at the top of the window: opaque
+    assert tuple(vol.voxels.data[values <= -1000][0]) == (*viridis[0][1], 0)  # at the bottom: transparent
+    windowed = vol.voxels.data.copy()
+    assert vol.history.undo_depth == depth + 2
     assert volume_editor.execute("undo") and volume_editor.execute("undo")
-    np.testing.assert_array_equal(vol.data, loaded)
-    assert vol.scalars.transfer == TransferFunction(*default_window(values))
+    np.testing.assert_array_equal(vol.voxels.data, loaded)
+    assert vol.voxels.scalars.transfer == TransferFunction(*default_window(values))
     assert volume_editor.execute("redo") and volume_editor.execute("redo")
-    np.testing.assert_array_equal(vol.data, windowed)
+    np.testing.assert_array_equal(vol.voxels.data, windowed)
     assert volume_editor.execute("vol.window.auto")
-    assert vol.scalars.transfer == TransferFunction(*default_window(values), "viridis")
-    np.testing.assert_array_equal(vol.scalars.values, values)
+    assert vol.voxels.scalars.transfer == TransferFunction(*default_window(values), "viridis")
+    np.testing.assert_array_equal(vol.voxels.scalars.values, values)
 
 
 def test_a_window_step_keeps_no_voxels(volume_editor, tmp_path):
     vol = load(volume_editor, tmp_path, phantom("float32"), "v.npy")
-    held = vol._history_bytes
+    held = vol.history.nbytes
     for low in range(10):
         assert volume_editor.execute(f"vol.window {low * 0.1} 30")
-    assert vol._history_bytes == held  # the colours are made again from the scalars, not stored
+    assert vol.history.nbytes == held  # the colours are made again from the scalars, not stored
 
 
 def test_the_history_counts_a_scalar_step_the_same_going_out_as_coming_in():
-    vol = vm.Volume.new(2, 2, 2)
+    vol = Volume.new(2, 2, 2)
     vol.replace_scalars(phantom("float64"))  # its step holds the 2x2x2 image; undone, it holds the scalar volume
-    vol.stroke("z", 0, 3, (255, 0, 0, 255), [(1, 1)])  # its step holds the scalars it baked
-    assert vol.undo() and vol.undo()
-    vol.set_voxel(0, 0, 0, (1, 2, 3, 255))  # drops both redo steps
-    assert vol._history_bytes == sum(step.nbytes for step in vol._undo) == 4  # the one voxel
+    vol.paint.stroke("z", 0, 3, (255, 0, 0, 255), [(1, 1)])  # its step holds the scalars it baked
+    assert vol.history.undo() and vol.history.undo()
+    vol.paint.set_voxel(0, 0, 0, (1, 2, 3, 255))  # drops both redo steps
+    assert vol.history.nbytes == sum(step.nbytes for step in vol.history._undo) == 4  # the one voxel
 
 
 def test_window_and_colour_map_refusals_change_nothing(volume_editor, tmp_path):
     vol = load(volume_editor, tmp_path, phantom("uint16"), "v.npy")
-    before = (vol.digest(), vol.undo_depth)
+    before = (vol.voxels.digest(), vol.history.undo_depth)
     for line, needle in (("vol.window 5 5", "low must be below its high"), ("vol.window 9 2", "below"),
                          ("vol.window 3", "low and high"), ("vol.window 1 inf", "finite"),
                          ("vol.colormap jet", "grey, hot, bone, viridis")):
         assert not volume_editor.execute(line)
         assert needle in errors(volume_editor)[-1]
-    assert (vol.digest(), vol.undo_depth) == before
+    assert (vol.voxels.digest(), vol.history.undo_depth) == before
     assert volume_editor.execute("vol.window")  # shows it
     assert infos(volume_editor)[-1] == "window 1007..1693 of uint16 scalars 0..1700, colour map grey"
 
@@ -152,8 +153,8 @@ def test_nan_is_transparent_and_infinities_clamp(volume_editor, tmp_path):
     values = phantom("float32")
     values[0, 0, :3] = (np.nan, np.inf, -np.inf)
     vol = load(volume_editor, tmp_path, values, "v.nrrd")
-    assert vol.scalars.transfer == TransferFunction(0.75, 25.25)  # the finite values' percentiles
-    assert [tuple(c) for c in vol.data[0, 0, :3]] == [(0, 0, 0, 0), (255, 255, 255, 255), (0, 0, 0, 0)]
+    assert vol.voxels.scalars.transfer == TransferFunction(0.75, 25.25)  # the finite values' percentiles
+    assert [tuple(c) for c in vol.voxels.data[0, 0, :3]] == [(0, 0, 0, 0), (255, 255, 255, 255), (0, 0, 0, 0)]
     assert volume_editor.execute("vol.window")
     assert "float32 scalars -inf..inf" in infos(volume_editor)[-1]
 
@@ -170,49 +171,49 @@ def test_the_default_window_of_degenerate_volumes(values, window):
 def test_editing_bakes_the_window_in_and_undo_brings_the_scalars_back(volume_editor, tmp_path):
     values = phantom("int16")
     vol = load(volume_editor, tmp_path, values, "v.tif")
-    scalars = vol.scalars
+    scalars = vol.voxels.scalars
     assert volume_editor.execute("stroke.preview z 2 3 255 0 0 255 1 1 9 9")  # a stroke in progress bakes nothing
-    assert vol.scalars is scalars
+    assert vol.voxels.scalars is scalars
     assert volume_editor.execute("stroke z 2 3 255 0 0 255 1 1 9 9")
-    painted = vol.data.copy()
-    assert vol.scalars is None and "baked the window into the colours" in infos(volume_editor)[-1]
+    painted = vol.voxels.data.copy()
+    assert vol.voxels.scalars is None and "baked the window into the colours" in infos(volume_editor)[-1]
     assert not volume_editor.execute("vol.window 0 100")
     assert "no scalars to window" in errors(volume_editor)[-1] and "undo the edit" in errors(volume_editor)[-1]
-    np.testing.assert_array_equal(vol.data, painted)
+    np.testing.assert_array_equal(vol.voxels.data, painted)
     assert volume_editor.execute("undo")
-    assert vol.scalars is scalars
+    assert vol.voxels.scalars is scalars
     assert volume_editor.execute("redo")
-    assert vol.scalars is None
-    np.testing.assert_array_equal(vol.data, painted)
+    assert vol.voxels.scalars is None
+    np.testing.assert_array_equal(vol.voxels.data, painted)
     assert volume_editor.execute("undo") and volume_editor.execute("vol.window -1000 20")
-    np.testing.assert_array_equal(vol.data, grey(values, -1000, 20))
+    np.testing.assert_array_equal(vol.voxels.data, grey(values, -1000, 20))
     for edit in ("smooth", "voxel 1 1 1 9 9 9 255", "fill z 0 0 0 1 2 3 255"):
         volume_editor.execute("undo")
-        assert vol.scalars is not None and volume_editor.execute(edit) and vol.scalars is None
+        assert vol.voxels.scalars is not None and volume_editor.execute(edit) and vol.voxels.scalars is None
 
 
 def test_scalars_too_big_for_the_undo_history_are_dropped_with_a_note(volume_editor, tmp_path):
     vol = load(volume_editor, tmp_path, phantom("float64"), "v.npy")
-    vol.max_undo_bytes = vol.scalars.nbytes  # the stroke's step holds them and its voxels: over the cap
+    vol.history.max_bytes = vol.voxels.scalars.nbytes  # the stroke's step holds them and its voxels: over the cap
     assert volume_editor.execute("stroke z 0 1 255 0 0 255 1 1")
-    assert vol.scalars is None and vol.undo_depth == 0
+    assert vol.voxels.scalars is None and vol.history.undo_depth == 0
     assert "do not fit the undo history: load the file again" in infos(volume_editor)[-1]
 
 
 def test_rotations_turn_the_scalars_with_the_voxels(volume_editor, tmp_path):
     values = phantom("uint16")
     vol = load(volume_editor, tmp_path, values, "v.npy")
-    depth = vol.undo_depth
+    depth = vol.history.undo_depth
     for turn, axis in enumerate("xyz"):
         low = 1000 + turn
         assert volume_editor.execute(f"vol.window {low} {low + 255 * 4}")
         assert volume_editor.execute(f"rotate {axis}")
         # the turned scalars give the turned colours: they turned the same way
-        np.testing.assert_array_equal(vol.data, grey(vol.scalars.values, low, low + 255 * 4))
+        np.testing.assert_array_equal(vol.voxels.data, grey(vol.voxels.scalars.values, low, low + 255 * 4))
     for _ in range(6):
         assert volume_editor.execute("undo")
-    assert vol.undo_depth == depth
-    np.testing.assert_array_equal(vol.scalars.values, values)
+    assert vol.history.undo_depth == depth
+    np.testing.assert_array_equal(vol.voxels.scalars.values, values)
 
 
 def malformed_files(tmp_path) -> list[tuple[str, str]]:
@@ -238,24 +239,24 @@ def malformed_files(tmp_path) -> list[tuple[str, str]]:
 
 def test_malformed_scalar_files_are_refused_and_change_nothing(volume_editor, tmp_path):
     vol = load(volume_editor, tmp_path, phantom("int16"), "good.npy")
-    before = (vol.digest(), vol.undo_depth, vol.scalars)
+    before = (vol.voxels.digest(), vol.history.undo_depth, vol.voxels.scalars)
     for name, needle in malformed_files(tmp_path):
         assert not volume_editor.execute(f"load {name}")
         assert name in errors(volume_editor)[-1] and needle in errors(volume_editor)[-1], errors(volume_editor)[-1]
-        assert (vol.digest(), vol.undo_depth, vol.scalars) == before
+        assert (vol.voxels.digest(), vol.history.undo_depth, vol.voxels.scalars) == before
 
 
 def test_a_scalar_volume_over_the_memory_limit_is_refused_before_reading(volume_editor, tmp_path, monkeypatch):
     values = phantom("float64")
     WRITERS["nrrd"](tmp_path / "big.nrrd", values)
-    monkeypatch.setattr(vm, "MAX_BYTES", values.size * 12 - 1)  # room for its colours, not for its scalars too
-    before = volume(volume_editor).digest()
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12 - 1)  # room for its colours, not its scalars too
+    before = volume(volume_editor).voxels.digest()
     assert not volume_editor.execute("load big.nrrd")
     assert "its scalars and their colours" in errors(volume_editor)[-1]
-    assert volume(volume_editor).digest() == before
-    with pytest.raises(vm.VolumeError, match="RGBA data and scalars"):
+    assert volume(volume_editor).voxels.digest() == before
+    with pytest.raises(voxels_model.VolumeError, match="RGBA data and scalars"):
         volume(volume_editor).replace_scalars(values)
-    monkeypatch.setattr(vm, "MAX_BYTES", values.size * 12)
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12)
     assert volume_editor.execute("load big.nrrd")
 
 
@@ -277,8 +278,8 @@ def test_a_scalar_volume_saved_to_nrrd_loads_again_with_its_window(volume_editor
     assert volume_editor.execute("vol.window 0.5 9.125; vol.colormap viridis; save kept.nrrd; sample coords3d 8")
     assert volume_editor.execute("load kept.nrrd")
     vol = volume(volume_editor)
-    assert vol.scalars.transfer == TransferFunction(0.5, 9.125, "viridis")
-    np.testing.assert_array_equal(vol.scalars.values, values)
+    assert vol.voxels.scalars.transfer == TransferFunction(0.5, 9.125, "viridis")
+    np.testing.assert_array_equal(vol.voxels.scalars.values, values)
     assert "window 0.5..9.125 (kept in the file), viridis" in infos(volume_editor)[-1]
 
 
@@ -295,11 +296,11 @@ def test_an_autosaved_scalar_volume_recovers_as_scalars_with_its_window(volume_e
     [scene] = fresh.documents.recoverable(folder)
     assert fresh.execute(f"recover {scene.file} {scene.original}"), errors(fresh)
     recovered = volume(fresh)
-    np.testing.assert_array_equal(recovered.scalars.values, values)
-    assert recovered.scalars.transfer == TransferFunction(-990, -20, "hot")
+    np.testing.assert_array_equal(recovered.voxels.scalars.values, values)
+    assert recovered.voxels.scalars.transfer == TransferFunction(-990, -20, "hot")
     assert fresh.digest()["volume"] == volume_editor.digest()["volume"]
     assert fresh.documents.path(fresh.current) == str(tmp_path / "ct.npy") and fresh.documents.modified(fresh.current)
-    assert fresh.execute("vol.window 0 100") and recovered.scalars.transfer.low == 0  # still windows
+    assert fresh.execute("vol.window 0 100") and recovered.voxels.scalars.transfer.low == 0  # still windows
 
     tampered = (folder / "volume.nrrd").read_bytes().replace(b"-990.0 -20.0 hot", b"-20.0 -990.0 hot")
     (folder / "volume.nrrd").write_bytes(tampered)
@@ -311,7 +312,7 @@ def test_an_autosaved_scalar_volume_recovers_as_scalars_with_its_window(volume_e
     assert volume_editor.execute("voxel 1 1 1 255 0 0 255")  # bakes the window in: colours from now on
     assert volume_editor.documents.autosave(folder) == 1
     assert sorted(p.name for p in folder.iterdir()) == ["autosave.json", "volume.r3"]  # the .nrrd went
-    np.testing.assert_array_equal(read_volume(folder / "volume.r3"), vol.data)
+    np.testing.assert_array_equal(read_volume(folder / "volume.r3"), vol.voxels.data)
 
 
 def test_a_load_keeps_the_values_it_read_without_a_second_copy(volume_editor, tmp_path):
@@ -329,26 +330,26 @@ def test_a_load_keeps_the_values_it_read_without_a_second_copy(volume_editor, tm
     finally:
         tracemalloc.stop()
     assert peak < values.nbytes + colours.nbytes + slabs + (1 << 20)  # a second copy would add 4 MiB
-    np.testing.assert_array_equal(volume(volume_editor).scalars.values, values)
+    np.testing.assert_array_equal(volume(volume_editor).voxels.scalars.values, values)
 
 
 def test_replace_scalars_copies_unless_handed_the_array():
-    vol, values = vm.Volume.new(2, 2, 2), phantom("uint16")
+    vol, values = Volume.new(2, 2, 2), phantom("uint16")
     vol.replace_scalars(values)
-    assert not np.shares_memory(vol.scalars.values, values) and values.flags.writeable
+    assert not np.shares_memory(vol.voxels.scalars.values, values) and values.flags.writeable
     vol.replace_scalars(values, copy=False)
-    assert np.shares_memory(vol.scalars.values, values) and not values.flags.writeable  # read-only: the model's
+    assert np.shares_memory(vol.voxels.scalars.values, values) and not values.flags.writeable  # read-only: the model's
     swapped = phantom("uint16").astype(">u2")
     vol.replace_scalars(swapped, copy=False)  # the model's byte order needs a copy anyway
-    assert vol.scalars.values.dtype.isnative and swapped.flags.writeable
-    np.testing.assert_array_equal(vol.scalars.values, values)
+    assert vol.voxels.scalars.values.dtype.isnative and swapped.flags.writeable
+    np.testing.assert_array_equal(vol.voxels.scalars.values, values)
 
 
 @pytest.mark.parametrize("dtype, window", [("int16", ""), ("float32", "vol.window 0.75 3.125")])
 def test_a_demo_recorded_from_a_scalar_volume_replays_to_it(volume_editor, tmp_path, dtype, window):
     load(volume_editor, tmp_path, phantom(dtype), "in.npy")
     volume_editor.execute(f"vol.colormap hot; {window}")  # int16: the default window, whole numbers
-    start = volume(volume_editor).scalars.transfer
+    start = volume(volume_editor).voxels.scalars.transfer
     volume_editor.execute("record scan")
     volume_editor.demos.clock.advance(0.5)
     volume_editor.execute("rotate y")
@@ -357,13 +358,13 @@ def test_a_demo_recorded_from_a_scalar_volume_replays_to_it(volume_editor, tmp_p
     (tmp_path / "in.npy").unlink()
     fresh = Editor(clock=VirtualClock())
     assert fresh.execute(f"timedemo {tmp_path / 'scan'}")
-    assert volume(fresh).digest() == volume(volume_editor).digest()  # the digest covers the scalars and window
-    assert volume(fresh).scalars.transfer == start and start.colormap == "hot"
+    assert volume(fresh).voxels.digest() == volume(volume_editor).voxels.digest()  # covers the scalars and window
+    assert volume(fresh).voxels.scalars.transfer == start and start.colormap == "hot"
     assert fresh.digest() == volume_editor.digest()
 
 
 def test_a_window_change_uploads_the_volume_once(gl, volume_editor, tmp_path):
-    vol = load(volume_editor, tmp_path, phantom("int16"), "v.nrrd")
+    vol = load(volume_editor, tmp_path, phantom("int16"), "v.nrrd").voxels
     tracer = RayTracer(gl, ShaderLibrary(gl, [SHADERS]))
     fbo = gl.simple_framebuffer((32, 32))
     settings = TraceSettings(mode=7, steps=32)  # empty-space skipping: the distance field follows the alpha too

@@ -158,6 +158,6 @@ def test_the_volume_workspace_scene_files_are_its_volumes(tmp_path, monkeypatch)
     monkeypatch.chdir(tmp_path)
     editor = Editor(configs=False)
     assert editor.execute("workspace volume; sample cornell_box 16; scene.save box.r3")
-    saved = editor.workspaces["volume"].volume.digest()
+    saved = editor.workspaces["volume"].volume.voxels.digest()
     assert editor.execute("new 4 4 4; scene.load box.r3")
-    assert editor.workspaces["volume"].volume.digest() == saved
+    assert editor.workspaces["volume"].volume.voxels.digest() == saved

@@ -20,13 +20,13 @@ def at(canvas, u, v):
 
 
 def painted(volume):
-    z, y, x = np.nonzero(volume.data[..., 3])
+    z, y, x = np.nonzero(volume.voxels.data[..., 3])
     return set(zip(x.tolist(), y.tolist(), z.tolist()))
 
 
 def test_a_drag_paints_exact_voxels_as_one_recorded_command(window, painter, qtbot, tmp_path):
     volume = window.editor.workspaces["volume"].volume
-    before = volume.digest()
+    before = volume.voxels.digest()
     window.run(f"record {tmp_path / 'paint'}")
     qtbot.mousePress(painter, Qt.MouseButton.LeftButton, pos=at(painter, 2, 3))
     qtbot.mouseMove(painter, at(painter, 9, 3))  # a fast jump: the stroke must have no gap
@@ -35,17 +35,17 @@ def test_a_drag_paints_exact_voxels_as_one_recorded_command(window, painter, qtb
     qtbot.mouseRelease(painter, Qt.MouseButton.LeftButton, pos=at(painter, 9, 8))
     expected = {(u, 3, 1) for u in range(2, 10)} | {(9, v, 1) for v in range(3, 9)}
     assert painted(volume) == expected
-    assert tuple(volume.data[1, 3, 2]) == (255, 0, 0, 255)
-    assert volume.undo_depth == 2  # `new`, then the stroke: the previews left nothing behind
+    assert tuple(volume.voxels.data[1, 3, 2]) == (255, 0, 0, 255)
+    assert volume.history.undo_depth == 2  # `new`, then the stroke: the previews left nothing behind
     window.run("stop")
     lines = (tmp_path / "paint.demo").read_text().splitlines()
     strokes = [line.split(" ", 1)[1] for line in lines[2:] if " stroke" in line]
     assert strokes == ["stroke z 1 1 255 0 0 255 2 3 9 3 9 8"]
-    after = volume.digest()
+    after = volume.voxels.digest()
     window.run("undo")
-    assert volume.digest() == before
+    assert volume.voxels.digest() == before
     window.run("redo")
-    assert volume.digest() == after
+    assert volume.voxels.digest() == after
 
 
 def test_the_recorded_stroke_replays_to_the_same_voxels(window, painter, qtbot, tmp_path):
@@ -59,7 +59,8 @@ def test_the_recorded_stroke_replays_to_the_same_voxels(window, painter, qtbot, 
     window.run("stop")
     fresh = Editor(clock=VirtualClock())
     assert fresh.execute(f"timedemo {tmp_path / 'replay'}")
-    assert fresh.workspaces["volume"].volume.digest() == window.editor.workspaces["volume"].volume.digest()
+    replayed, painted = (e.workspaces["volume"].volume.voxels for e in (fresh, window.editor))
+    assert replayed.digest() == painted.digest()
 
 
 def test_fill_and_eyedropper_tools(window, painter, qtbot):
@@ -67,7 +68,7 @@ def test_fill_and_eyedropper_tools(window, painter, qtbot):
     window.run("stroke z 1 1 0 255 0 255 0 5 15 5")  # a green line splits the slice
     painter.tool = "fill"
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 3, 2))
-    assert (volume.data[1, :5, :, 0] == 255).all() and (volume.data[1, 6:, :, 3] == 0).all()
+    assert (volume.voxels.data[1, :5, :, 0] == 255).all() and (volume.voxels.data[1, 6:, :, 3] == 0).all()
     painter.tool = "brush"
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, stateKey=Qt.KeyboardModifier.AltModifier,
                      pos=at(painter, 4, 5))
@@ -80,23 +81,23 @@ def test_the_fill_tool_takes_its_tolerance_from_the_panel_and_records_it(window,
     window.run("sample coords3d 16")  # a gradient, 17 levels a voxel in r (x) and g (y)
     window.run("brush.color 250 250 250 128")  # no voxel of it has this colour
     qtbot.waitUntil(lambda: painter.zoom > 0)  # fitted to the new slice: `at` reads the zoom
-    base = volume.digest()
+    base = volume.voxels.digest()
     panel.tolerance.setValue(17)
     assert window.editor.console.registry.cvars["fill_tolerance"].value == 17
     window.run(f"record {tmp_path / 'fill'}")
     painter.tool = "fill"
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
     window.run("stop")
-    filled = (volume.data == (250, 250, 250, 128)).all(-1)
+    filled = (volume.voxels.data == (250, 250, 250, 128)).all(-1)
     assert np.count_nonzero(filled) == 9 and filled[8, 5:8, 4:7].all()  # the middle slice, 3 x 3 around (5, 6)
     fills = [line.split(" ", 1)[1] for line in (tmp_path / "fill.demo").read_text().splitlines() if " fill " in line]
     assert fills == ["fill z 8 5 6 250 250 250 128 17"]
     window.run("undo")
-    assert volume.digest() == base
+    assert volume.voxels.digest() == base
     window.run("fill_tolerance 0")  # the cvar drives the box, too
     assert panel.tolerance.value() == 0
     qtbot.mouseClick(painter, Qt.MouseButton.LeftButton, pos=at(painter, 5, 6))
-    assert np.count_nonzero((volume.data == (250, 250, 250, 128)).all(-1)) == 1
+    assert np.count_nonzero((volume.voxels.data == (250, 250, 250, 128)).all(-1)) == 1
 
 
 def test_a_loaded_volume_opens_on_its_middle_slice(window, painter, qtbot, tmp_path):
@@ -107,7 +108,7 @@ def test_a_loaded_volume_opens_on_its_middle_slice(window, painter, qtbot, tmp_p
     assert painter.zoom == 0  # refits on the next paint; a click before it fits first (it raised, dividing by 0)
     assert painter.to_voxel(QPointF(painter.width() / 2, painter.height() / 2)) == (16, 16)
     volume = window.editor.workspaces["volume"].volume
-    assert (painter.image() == volume.slice("y", 16)).all()  # the canvas shows it (its neighbours are the same)
+    assert (painter.image() == volume.voxels.slice("y", 16)).all()  # the canvas shows it (its neighbours are the same)
 
 
 def test_painter_keys(window, painter, qtbot):
@@ -133,11 +134,11 @@ def test_number_keys_in_the_3d_view_rotate_and_load_samples(window, painter, qtb
     vp = window.viewport
     vp.setFocus()
     qtbot.keyClick(vp, Qt.Key.Key_5)
-    assert window.editor.workspaces["volume"].volume.size == (16, 3, 12)  # about x: height and depth swap
+    assert window.editor.workspaces["volume"].volume.voxels.size == (16, 3, 12)  # about x: height and depth swap
     qtbot.keyClick(vp, Qt.Key.Key_9)
-    assert window.editor.workspaces["volume"].volume.size == (64, 64, 64)
+    assert window.editor.workspaces["volume"].volume.voxels.size == (64, 64, 64)
     volume = window.editor.workspaces["volume"].volume
-    assert tuple(volume.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
+    assert tuple(volume.voxels.data[10, 10, 0]) == (200, 40, 35, 255)  # the Cornell box's red wall
 
 
 def test_slice_picker_hover_highlights_and_click_edits(window, painter, qtbot):

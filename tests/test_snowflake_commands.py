@@ -105,7 +105,7 @@ def test_saved_file_is_documented_format(editor, tmp_path):
 
 def test_every_snowflake_edit_is_one_undo_step_and_undo_stays_in_the_workspace(editor):
     scene = editor.workspaces["snowflake"].scene
-    volume_before = editor.workspaces["volume"].volume.digest()
+    volume_before = editor.workspaces["volume"].volume.voxels.digest()
     start = scene.digest()
     steps = ["snow.add 0.5 0.5 0.2", "snow.level 3", "snow.step 0.25", "snow.remove 0", "snow.clear"]
     states = []
@@ -125,13 +125,13 @@ def test_every_snowflake_edit_is_one_undo_step_and_undo_stays_in_the_workspace(e
         assert editor.execute("undo") and scene.digest() == expected
     assert scene.digest() == start
     assert not editor.execute("undo")  # nothing left here; the volume's edits are not reached
-    assert editor.workspaces["volume"].volume.digest() == volume_before
+    assert editor.workspaces["volume"].volume.voxels.digest() == volume_before
     assert editor.execute("redo") and scene.digest() == states[1]
 
 
 def test_undo_in_the_snowflake_leaves_voxel_edits_alone(editor):
     assert editor.execute("voxel 1 1 1 255 0 0 255")  # a volume edit, typed while the snowflake is in view
-    painted = editor.workspaces["volume"].volume.digest()
+    painted = editor.workspaces["volume"].volume.voxels.digest()
     assert not editor.execute("undo")
-    assert editor.workspaces["volume"].volume.digest() == painted
-    assert editor.execute("workspace volume; undo") and editor.workspaces["volume"].volume.digest() != painted
+    assert editor.workspaces["volume"].volume.voxels.digest() == painted
+    assert editor.execute("workspace volume; undo") and editor.workspaces["volume"].volume.voxels.digest() != painted

@@ -110,8 +110,8 @@ def test_the_voxel_and_its_colour_under_the_cursor(volume_window):
     vp = window.viewport
     hover(vp, QPoint(vp.width() // 2, vp.height() // 2))  # into the open box: its back wall
     x, y, z, *rgba = map(int, VOXEL.match(status(window)[0]).groups())
-    volume = window.editor.workspaces["volume"].volume
-    assert tuple(rgba) == volume.pick(x, y, z) and rgba[3] > 0
+    voxels = window.editor.workspaces["volume"].volume.voxels
+    assert tuple(rgba) == voxels.pick(x, y, z) and rgba[3] > 0
     hover(vp, QPoint(2, 2))  # past the box
     assert status(window)[0] == ""
 

@@ -22,7 +22,7 @@ def panel(window, tmp_path):
 
 
 def transfer_function(window) -> TransferFunction:
-    return window.editor.workspaces["volume"].volume.scalars.transfer
+    return window.editor.workspaces["volume"].volume.voxels.scalars.transfer
 
 
 def type_into(qtbot, box, text: str) -> None:

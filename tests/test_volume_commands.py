@@ -2,8 +2,12 @@
 import numpy as np
 import pytest
 
+from app.commands import volume
+from app.console.console import Console
 from app.console.demo import VirtualClock
+from app.console.registry import CommandError
 from app.editor import Editor
+from app.model.volume.workspace import VolumeWorkspace
 
 
 @pytest.fixture
@@ -12,19 +16,27 @@ def editor(volume_editor):
     return volume_editor
 
 
+def voxels(editor):
+    return editor.workspaces["volume"].volume.voxels
+
+
+def history(editor):
+    return editor.workspaces["volume"].volume.history
+
+
 def last_error(editor):
     return [line.text for line in editor.console.log if line.level == "error"][-1]
 
 
 def test_default_volume_is_coords3d():
     e = Editor()
-    assert e.workspaces["volume"].volume.size == (64, 64, 64)
-    data = e.workspaces["volume"].volume.data
+    assert voxels(e).size == (64, 64, 64)
+    data = voxels(e).data
     assert tuple(data[0, 0, 63]) == (255, 0, 0, 255) and tuple(data[63, 63, 0]) == (0, 255, 255, 255)
 
 
 def test_voxel_stroke_fill_rotate(editor):
-    v = editor.workspaces["volume"].volume
+    v = voxels(editor)
     assert editor.execute("voxel 1 2 3 10 20 30 40")
     assert tuple(v.data[3, 2, 1]) == (10, 20, 30, 40)
     assert editor.execute("stroke y 1 1 255 0 0 255 0 0 7 0")  # axis y: u = x, v = z
@@ -38,7 +50,7 @@ def test_voxel_stroke_fill_rotate(editor):
 
 
 def test_fill_tolerance_takes_in_similar_colours_and_undoes(editor):
-    v = editor.workspaces["volume"].volume
+    v = voxels(editor)
     assert editor.execute("sample coords3d")  # a gradient: an exact fill takes one voxel
     base = v.digest()
     for line, filled in (("fill z 5 32 32 250 250 250 128", 1), ("fill z 5 32 32 250 250 250 128 0", 1),
@@ -81,36 +93,36 @@ def test_a_load_opens_the_painter_on_the_middle_slice(editor):
     ("redo", "nothing to redo"),
 ])
 def test_bad_arguments_change_nothing(editor, line, needle):
-    before = (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth)
+    before = (voxels(editor).digest(), history(editor).undo_depth)
     assert not editor.execute(line)
     assert needle in last_error(editor)
-    assert (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth) == before
+    assert (voxels(editor).digest(), history(editor).undo_depth) == before
 
 
 def test_undo_until_nothing_is_left(editor):
     Editor.execute(editor, "voxel 0 0 0 1 2 3 4")
-    while editor.workspaces["volume"].volume.undo_depth:
+    while history(editor).undo_depth:
         assert editor.execute("undo")
     assert not editor.execute("undo") and "nothing to undo" in last_error(editor)
-    assert editor.workspaces["volume"].volume.size == (64, 64, 64)  # back to the default, before `new`
+    assert voxels(editor).size == (64, 64, 64)  # back to the default, before `new`
 
 
 @pytest.mark.parametrize("name", ["v.r3", "v.npy", "v.tif", "v.nrrd", "v_%02i.png"])
 def test_save_and_load_every_format(editor, tmp_path, name):
     editor.execute("stroke z 1 2 9 99 199 255 0 0 7 5")
-    digest = editor.workspaces["volume"].volume.digest()
+    digest = voxels(editor).digest()
     assert editor.execute(f"save {tmp_path / name}")
     assert editor.execute("new 3 3 3")
     assert editor.execute(f"load {tmp_path / name}")
-    assert editor.workspaces["volume"].volume.digest() == digest
+    assert voxels(editor).digest() == digest
 
 
 def test_malformed_file_is_refused_and_nothing_changes(editor, tmp_path):
     (tmp_path / "bad.r3").write_bytes(b"R3" + bytes([8, 0, 8, 0, 8, 0]) + b"\0" * 100)
-    before = (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth)
+    before = (voxels(editor).digest(), history(editor).undo_depth)
     assert not editor.execute(f"load {tmp_path / 'bad.r3'}")
     assert "truncated" in last_error(editor)
-    assert (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth) == before
+    assert (voxels(editor).digest(), history(editor).undo_depth) == before
 
 
 def test_demo_of_an_edited_volume_starts_from_a_snapshot(editor, tmp_path):
@@ -123,21 +135,20 @@ def test_demo_of_an_edited_volume_starts_from_a_snapshot(editor, tmp_path):
     assert (tmp_path / "edits.start.r3").exists()
     fresh = Editor(clock=VirtualClock())
     assert fresh.execute(f"timedemo {tmp_path / 'edits'}")
-    assert fresh.workspaces["volume"].volume.digest() == editor.workspaces["volume"].volume.digest()
+    assert voxels(fresh).digest() == voxels(editor).digest()
     assert fresh.digest() == editor.digest()
 
 
 def test_stroke_preview_leaves_one_undo_step(editor):
-    depth = editor.workspaces["volume"].volume.undo_depth
+    depth = history(editor).undo_depth
     editor.execute("stroke.preview z 0 1 255 0 0 255 0 0 3 0")
     editor.execute("stroke.preview z 0 1 255 0 0 255 0 0 3 0 3 3")
-    assert editor.workspaces["volume"].volume.data[0, 3, 3, 3] == 255
+    assert voxels(editor).data[0, 3, 3, 3] == 255
     editor.execute("stroke z 0 1 255 0 0 255 0 0 3 0 3 3")
-    assert editor.workspaces["volume"].volume.undo_depth == depth + 1
+    assert history(editor).undo_depth == depth + 1
     editor.execute("stroke.preview z 1 1 255 0 0 255 0 0")
     editor.execute("stroke.cancel")
-    volume = editor.workspaces["volume"].volume
-    assert volume.data[1].sum() == 0 and volume.undo_depth == depth + 1
+    assert voxels(editor).data[1].sum() == 0 and history(editor).undo_depth == depth + 1
 
 
 def test_pick_sets_the_brush(editor):
@@ -148,17 +159,17 @@ def test_pick_sets_the_brush(editor):
 def test_cube_lua_draws_a_cube_open_on_one_side():
     e = Editor()
     assert e.execute("workspace volume; cube.lua")  # undo below acts on the workspace in view
-    data = e.workspaces["volume"].volume.data
-    n = e.workspaces["volume"].volume.size[0]
+    data = voxels(e).data
+    n = voxels(e).size[0]
     solid = data[..., 3] > 0
     assert solid[:, 0, :].all() and solid[:, -1, :].all() and solid[:, :, 0].all() and solid[:, :, -1].all()
     assert solid[-1].all() and not solid[0, 1:-1, 1:-1].any()  # back closed, front open
     assert not solid[1:-1, 1:-1, 1:-1].any() and n == 32
-    assert e.execute("undo") and e.workspaces["volume"].volume.size == (64, 64, 64)
+    assert e.execute("undo") and voxels(e).size == (64, 64, 64)
 
 
 def test_a_preview_never_mixes_with_the_history(editor):
-    v = editor.workspaces["volume"].volume
+    v = voxels(editor)
     editor.execute("stroke.preview z 0 1 255 0 0 255 2 2; voxel 7 5 0 0 255 0 255; stroke.cancel")
     assert tuple(v.data[0, 5, 7]) == (0, 255, 0, 255) and v.data[0, 2, 2, 3] == 0
     editor.execute("stroke.preview z 0 1 255 0 0 255 3 3; stroke.cancel")
@@ -171,17 +182,37 @@ def test_undo_inside_a_script_keeps_earlier_edits_apart(editor, tmp_path):
                                     "cmd.voxel(3,0,0,9,9,9,255)\n")
     assert editor.execute(f"lua {tmp_path / 's.lua'}")
     assert editor.execute("undo")  # the script's edits, as one
-    assert tuple(editor.workspaces["volume"].volume.data[0, 0, 0]) == (255, 0, 0, 255)
-    assert editor.workspaces["volume"].volume.data[0, 0, 1:4, 3].sum() == 0
+    assert tuple(voxels(editor).data[0, 0, 0]) == (255, 0, 0, 255)
+    assert voxels(editor).data[0, 0, 1:4, 3].sum() == 0
 
 
 def test_undo_that_shrinks_the_volume_keeps_the_slice_inside(editor):
     editor.execute("new 8 8 40; slice z 39; undo")
-    assert editor.workspaces["volume"].volume.size == (8, 6, 4) and editor.workspaces["volume"].view.index == 3
+    assert voxels(editor).size == (8, 6, 4) and editor.workspaces["volume"].view.index == 3
 
 
 def test_small_cornell_name_keeps_its_walls():
     e = Editor()
     e.execute("sample cornell_name 16")
     green = np.array([40, 170, 60, 255])
-    assert (e.workspaces["volume"].volume.data[:-1, 1:-1, -1] == green).all()  # no letter wrapped onto the right wall
+    assert (voxels(e).data[:-1, 1:-1, -1] == green).all()  # no letter wrapped onto the right wall
+
+
+def test_a_command_is_a_function_that_runs_alone():
+    """No console dispatch: each verb takes the workspace's context and does its work."""
+    ctx = volume.Ctx(Console(), VolumeWorkspace())
+    volume.new(ctx, 4, 3, 2)
+    volume.voxel(ctx, 3, 2, 1, 10, 20, 30, 255)
+    volume.rotate(ctx, "z")
+    voxels = ctx.state.volume.voxels
+    assert voxels.size == (3, 4, 2) and voxels.pick(0, 3, 1) == (10, 20, 30, 255)
+    assert ctx.state.volume.history.undo_name() == "Rotate"
+    with pytest.raises(CommandError, match="outside 0..1 along z"):
+        volume.slice_args(ctx, "z", 2)
+
+
+def test_every_declared_command_is_registered_in_the_workspace(editor):
+    registry = editor.console.registry
+    scoped = {key for key in registry.commands if key.startswith("volume:")}
+    assert scoped == {f"volume:{d.name}" for d in volume.COMMANDS.declared}
+    assert len(scoped) == 31  # as many as the closure registered: none lost in the move

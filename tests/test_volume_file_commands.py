@@ -7,7 +7,7 @@ import pytest
 from PIL import Image
 
 from app.io.volume_formats import write_volume
-from app.model.volume import volume as vm
+from app.model.volume import voxels as voxels_model
 
 
 @pytest.fixture
@@ -48,8 +48,9 @@ def big_file(tmp_path) -> str:
     (big_file, "over the size limit of 4096 bytes"),
 ])
 def test_a_refused_load_changes_nothing(editor, tmp_path, monkeypatch, make, needle):
-    monkeypatch.setattr(vm, "MAX_BYTES", 4096)  # the model's limit is the reader's: refused before reading
-    before = (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth)
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", 4096)  # the model's limit is the reader's: refused before reading
+    volume = editor.workspaces["volume"].volume
+    before = (volume.voxels.digest(), volume.history.undo_depth)
     assert not editor.execute(f"load {make(tmp_path)}")
     assert needle in [line.text for line in editor.console.log if line.level == "error"][-1]
-    assert (editor.workspaces["volume"].volume.digest(), editor.workspaces["volume"].volume.undo_depth) == before
+    assert (volume.voxels.digest(), volume.history.undo_depth) == before

@@ -112,7 +112,7 @@ def test_a_key_that_loads_a_sample_saves_to_the_file_when_asked(make_window, qtb
     seen = answer(Button.Save)
     qtbot.keyClick(window.viewport, Qt.Key.Key_9)  # volume:9 is `sample cornell_box`
     assert "The Volume scene mine.r3 has unsaved changes." in said(seen)[0]
-    assert window.editor.current.volume.size == (64, 64, 64) and window.editor.digest()["volume"] != painted
+    assert window.editor.current.volume.voxels.size == (64, 64, 64) and window.editor.digest()["volume"] != painted
     fresh = Editor(clock=VirtualClock(), configs=False)
     assert fresh.execute(f"open {tmp_path / 'mine.r3'}")
     assert fresh.digest()["volume"] == painted

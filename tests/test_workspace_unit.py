@@ -93,7 +93,7 @@ def test_the_editor_serves_a_workspace_it_knows_only_through_the_mappings(dummy,
     assert editor.execute("workspace dummy") and editor.workspace == "dummy"
 
     # its `sample` in its own workspace; the volume's everywhere else, as before
-    volume_before = editor.workspaces["volume"].volume.digest()
+    volume_before = editor.workspaces["volume"].volume.voxels.digest()
     assert editor.execute("record counted")
     clock.advance(0.5)
     assert editor.execute("sample 3")
@@ -101,20 +101,20 @@ def test_the_editor_serves_a_workspace_it_knows_only_through_the_mappings(dummy,
     assert editor.execute("sample 7")
     assert editor.execute("stop")
     assert editor.workspaces["dummy"].count == 7
-    assert editor.workspaces["volume"].volume.digest() == volume_before
+    assert editor.workspaces["volume"].volume.voxels.digest() == volume_before
     assert editor.execute("volume:sample cornell_box 16")  # the qualified name reaches the volume's
-    assert editor.workspaces["volume"].volume.size == (16, 16, 16)
+    assert editor.workspaces["volume"].volume.voxels.size == (16, 16, 16)
 
     # digest: the dummy's part is there and follows its state
     assert editor.digest()["dummy"] == short_hash(7)
 
     # undo: the dummy's last step, nothing in the volume
-    volume_now = editor.workspaces["volume"].volume.digest()
+    volume_now = editor.workspaces["volume"].volume.voxels.digest()
     assert editor.execute("undo") and editor.workspaces["dummy"].count == 3
-    assert editor.workspaces["volume"].volume.digest() == volume_now
+    assert editor.workspaces["volume"].volume.voxels.digest() == volume_now
     assert editor.execute("undo") and editor.workspaces["dummy"].count == 0
     assert not editor.execute("undo")  # its history is empty: the volume's sample load is not undone here
-    assert editor.workspaces["volume"].volume.size == (16, 16, 16)
+    assert editor.workspaces["volume"].volume.voxels.size == (16, 16, 16)
 
     # a recorded demo replays it in a fresh editor
     fresh_clock = VirtualClock()

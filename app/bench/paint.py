@@ -35,20 +35,20 @@ class PaintState:
     def prepare(self, side: int) -> None:
         if self.loaded != side:
             self.console.execute(f"sample cornell_box {side}", echo=False)
-            self.texture.sync(self.workspace.volume)
+            self.texture.sync(self.workspace.volume.voxels)
             self.loaded = side
 
     def stroke(self, size: int) -> None:
         """A short stroke at a new place each frame, so no frame repeats the last one's work."""
-        side = self.workspace.volume.size[0]
+        side = self.workspace.volume.voxels.size[0]
         self.frame += 1
         z, u, v = (self.frame * 7) % side, (self.frame * 13) % side, (self.frame * 29) % side
         assert self.console.execute(f"stroke z {z} {size} 255 {self.frame % 256} 0 255 {u} {v} {u + 5} {v + 3}",
                                     echo=False)
         if self.full_upload:
-            self.texture.write_all(self.workspace.volume)
+            self.texture.write_all(self.workspace.volume.voxels)
         else:
-            self.texture.sync(self.workspace.volume)
+            self.texture.sync(self.workspace.volume.voxels)
 
 
 def _render(state: PaintState, _target, size, side) -> None:
@@ -57,7 +57,7 @@ def _render(state: PaintState, _target, size, side) -> None:
 
 
 def _output(state: PaintState, _target, _size, _side) -> np.ndarray:
-    gpu, cpu = state.texture.read(), state.workspace.volume.data
+    gpu, cpu = state.texture.read(), state.workspace.volume.voxels.data
     return np.abs(gpu.astype(np.int16) - cpu).reshape(gpu.shape[0], -1).max(axis=1) / 255.0
 
 

@@ -18,7 +18,7 @@ from app.gl.volume.raytracer import RayTracer, TraceSettings
 from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
 from app.model.volume.render_modes import MODES
-from app.model.volume.volume import Volume
+from app.model.volume.voxels import Voxels
 from app.model.volume.samples import coords3d, cornell_box
 from app.model.volume.view import VolumeView
 from app.reference.volume import render as reference_render
@@ -35,7 +35,7 @@ def _scene(name: str, side: int):
         return grey_scene(side)[:3]
     data = {"cornell": cornell_box, "coords3d": coords3d}[name](side)
     camera = OrbitCamera(yaw=0, pitch=0, distance=3.4) if name == "cornell" else OrbitCamera(yaw=35, pitch=25)
-    return name, Volume(data), VolumeView(camera=camera)
+    return name, Voxels(data), VolumeView(camera=camera)
 
 
 def _settings(mode: int, steps: float, **kw) -> TraceSettings:
@@ -51,8 +51,8 @@ class State:
 
 def _method(mode: int) -> Method:
     def render(state: State, target, steps, scene) -> None:
-        _name, volume, view = scene
-        state.tracer.render(target.fbo, volume, view, _settings(mode, steps))
+        _name, voxels, view = scene
+        state.tracer.render(target.fbo, voxels, view, _settings(mode, steps))
 
     def output(state: State, target, steps, scene) -> np.ndarray:
         render(state, target, steps, scene)
@@ -64,8 +64,8 @@ def _method(mode: int) -> Method:
     def stats(state: State, target, steps, scene) -> dict:
         if state.count_fbo is None or state.count_fbo.size != target.size:
             state.count_fbo = state.ctx.framebuffer([state.ctx.renderbuffer(target.size, 4, dtype="f4")])
-        _name, volume, view = scene
-        state.tracer.render(state.count_fbo, volume, view, _settings(mode, steps, debug_samples=True))
+        _name, voxels, view = scene
+        state.tracer.render(state.count_fbo, voxels, view, _settings(mode, steps, debug_samples=True))
         counts = np.frombuffer(state.count_fbo.read(components=4, dtype="f4"), "f4")[0::4]
         return {"samples_per_px": float(counts.mean())}
 
@@ -76,9 +76,9 @@ def _method(mode: int) -> Method:
 
 @lru_cache(maxsize=None)
 def _reference(name: str, side: int, mode: int, size, background) -> np.ndarray:
-    _n, volume, view = _scene(name, side)
+    _n, voxels, view = _scene(name, side)
     steps = reference_steps(side)
-    return reference_render(volume.data, view.camera, size, MODES[mode], steps=steps, shadow_steps=steps // 6,
+    return reference_render(voxels.data, view.camera, size, MODES[mode], steps=steps, shadow_steps=steps // 6,
                             background=background)
 
 
@@ -121,7 +121,7 @@ def grey_scene(side: int):
     twin = np.zeros_like(rgba)
     twin[..., :3] = np.round(grey * 255)[..., None].astype(np.uint8)
     twin[..., 3] = np.where(grey > 0, 255, 0)
-    return "cornell grey", Volume(twin), VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=3.4),
+    return "cornell grey", Voxels(twin), VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=3.4),
                                                     background=(0, 0, 0)), grey.astype(np.float32)
 
 
@@ -136,7 +136,7 @@ def vispy_rows(quick: bool, size: tuple[int, int], runs: int, progress) -> list:
     from app.bench.harness import Row, errors
 
     side = 32 if quick else 64
-    name, volume, view, grey = grey_scene(side)
+    name, voxels, view, grey = grey_scene(side)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for method, mode in VISPY_METHODS.items():
@@ -163,6 +163,6 @@ def vispy_rows(quick: bool, size: tuple[int, int], runs: int, progress) -> list:
 
 @lru_cache(maxsize=None)
 def _grey_reference(side: int, mode: int, size) -> np.ndarray:
-    _n, volume, view, _grey = grey_scene(side)
-    return reference_render(volume.data, view.camera, size, MODES[mode], steps=reference_steps(side),
+    _n, voxels, view, _grey = grey_scene(side)
+    return reference_render(voxels.data, view.camera, size, MODES[mode], steps=reference_steps(side),
                             background=(0.0, 0.0, 0.0))

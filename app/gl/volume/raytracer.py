@@ -9,7 +9,7 @@ from scipy.ndimage import distance_transform_edt
 
 from app.gl.core.vertex_arrays import VertexArrays
 from app.gl.volume.texture import VolumeTexture
-from app.model.volume.volume import VolumeWatch
+from app.model.volume.voxels import VolumeWatch, Voxels
 from app.model.volume import render_modes as rm
 from app.model.volume.render_modes import TraceSettings
 from app.model.volume.view import AXIS_INDEX, VolumeView, box_extents
@@ -42,10 +42,10 @@ class DistanceTexture:
         self.watch = VolumeWatch()
         self.stale = False  # clamped since the last exact build
 
-    def sync(self, volume) -> moderngl.Texture3D:
-        box = self.watch.changes(volume)
-        if self.texture is None or self.texture.size != volume.size or (box is not None and box.shape == volume.size):
-            self._rebuild(volume)
+    def sync(self, voxels: Voxels) -> moderngl.Texture3D:
+        box = self.watch.changes(voxels)
+        if self.texture is None or self.texture.size != voxels.size or (box is not None and box.shape == voxels.size):
+            self._rebuild(voxels)
         elif box is not None:
             self._clamp(box)
         return self.texture
@@ -57,12 +57,12 @@ class DistanceTexture:
         self._rebuild(self.watch.source)
         return True
 
-    def _rebuild(self, volume) -> None:
-        self.field = distance_field(volume.data)
-        if self.texture is None or self.texture.size != volume.size:
+    def _rebuild(self, voxels: Voxels) -> None:
+        self.field = distance_field(voxels.data)
+        if self.texture is None or self.texture.size != voxels.size:
             if self.texture is not None:
                 self.texture.release()
-            self.texture = self.ctx.texture3d(volume.size, 1, self.field, dtype="f4")
+            self.texture = self.ctx.texture3d(voxels.size, 1, self.field, dtype="f4")
             self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
         else:
             self.texture.write(self.field)
@@ -114,41 +114,41 @@ class RayTracer:
         self._box = VertexArrays(lambda program: ctx.vertex_array(program, [(self.cube, "3f", "in_position")]))
         self._entry: tuple | None = None  # (size, texture, framebuffer) of the two-pass setup
 
-    def render(self, fbo: moderngl.Framebuffer, volume, view: VolumeView, settings: TraceSettings) -> None:
+    def render(self, fbo: moderngl.Framebuffer, voxels: Voxels, view: VolumeView, settings: TraceSettings) -> None:
         """Key x magnifies, t draws an anaglyph pair (red: left eye; green and blue: right), f the edges."""
         cam = replace(view.camera, fov=view.camera.fov / 2) if view.magnify else view.camera
         if view.stereo:
             for shift, mask in ((-settings.eye_distance / 2, LEFT_EYE), (settings.eye_distance / 2, RIGHT_EYE)):
                 fbo.color_mask = mask
-                self._render(fbo, volume, view, replace(cam, shift=shift), settings)
+                self._render(fbo, voxels, view, replace(cam, shift=shift), settings)
             fbo.color_mask = ALL
         else:
-            self._render(fbo, volume, view, cam, settings)
+            self._render(fbo, voxels, view, cam, settings)
         if view.wireframe:
-            self._wireframe(fbo, volume, cam)
+            self._wireframe(fbo, voxels, cam)
 
-    def _wireframe(self, fbo: moderngl.Framebuffer, volume, cam) -> None:
+    def _wireframe(self, fbo: moderngl.Framebuffer, voxels, cam) -> None:
         w, h = fbo.size
         program = self.shaders.program("box_edges")
         view_proj = cam.clip_from_world((w, h))
         self._set(program, {"u_view_proj": tuple(view_proj.T.flatten()), "u_color": WIREFRAME,
-                            "u_extent": box_extents(volume.size)})
+                            "u_extent": box_extents(voxels.size)})
         fbo.use()
         self._edges.get(program).render(moderngl.LINES)
 
-    def _render(self, fbo: moderngl.Framebuffer, volume, view: VolumeView, cam, settings: TraceSettings) -> None:
+    def _render(self, fbo: moderngl.Framebuffer, voxels, view: VolumeView, cam, settings: TraceSettings) -> None:
         mode = rm.MODES[settings.mode]
         w, h = fbo.size
         view_proj = cam.clip_from_world((w, h))
-        extent = np.array(box_extents(volume.size), dtype="f4")
-        uniforms = self._uniforms(volume, view, settings, mode, extent)
+        extent = np.array(box_extents(voxels.size), dtype="f4")
+        uniforms = self._uniforms(voxels, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
-        self.volume.sync(volume).use(0)
+        self.volume.sync(voxels).use(0)
         self.linear.use(0)
         self.volume.texture.use(1)
         self.nearest.use(1)
         if mode.distance:
-            self.distance.sync(volume).use(2)
+            self.distance.sync(voxels).use(2)
         background = tuple(c / 255 for c in view.background)
         if mode.two_pass:
             entry = self._entry_pass((w, h), view_proj, extent)
@@ -190,7 +190,7 @@ class RayTracer:
         self.ctx.disable(moderngl.CULL_FACE)
         return texture
 
-    def _uniforms(self, volume, view: VolumeView, s: TraceSettings, mode: rm.Mode, extent) -> dict:
+    def _uniforms(self, voxels, view: VolumeView, s: TraceSettings, mode: rm.Mode, extent) -> dict:
         planes = [(view.axis, view.index, EDITED_SLICE)]
         planes.append((*view.highlight, PICKED_SLICE) if view.highlight else ("", 0, PICKED_SLICE))
         if not s.slice_planes:
@@ -199,8 +199,8 @@ class RayTracer:
         return {
             "u_shadow_offset": float(s.shadow_offset),
             "u_extent": tuple(extent),
-            "u_voxels": tuple(float(v) for v in volume.size),
-            "u_voxel": 2.0 / max(volume.size),
+            "u_voxels": tuple(float(v) for v in voxels.size),
+            "u_voxel": 2.0 / max(voxels.size),
             "u_steps": float(s.steps),
             "u_shadow_steps": int(s.shadow_steps),
             "u_sample_range": float(s.sample_range),
@@ -219,7 +219,7 @@ class RayTracer:
             "u_distance": 2,
             "u_debug_samples": int(s.debug_samples),
             "u_plane_axis": [AXIS_INDEX.get(a, -1) for a, _i, _c in planes],
-            "u_plane_pos": [(i + 0.5) / volume.size[AXIS_INDEX.get(a, 0)] for a, i, _c in planes],
+            "u_plane_pos": [(i + 0.5) / voxels.size[AXIS_INDEX.get(a, 0)] for a, i, _c in planes],
             "u_plane_color": [c for _a, _i, c in planes],
         }
 

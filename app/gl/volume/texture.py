@@ -4,11 +4,11 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from app.model.volume.volume import VolumeWatch
+from app.model.volume.voxels import VolumeWatch, Voxels
 
 
 class VolumeTexture:
-    """A 3D texture mirroring a Volume: re-uploads only what changed since it last looked."""
+    """A 3D texture mirroring a volume's Voxels: re-uploads only what changed since it last looked."""
 
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
@@ -16,30 +16,30 @@ class VolumeTexture:
         self.watch = VolumeWatch()
         self.uploaded_voxels = 0  # since the last reset: what the bench and tests count
 
-    def sync(self, volume) -> moderngl.Texture3D:
-        box = self.watch.changes(volume)
-        if self.texture is None or self.texture.size != volume.size:
+    def sync(self, voxels: Voxels) -> moderngl.Texture3D:
+        box = self.watch.changes(voxels)
+        if self.texture is None or self.texture.size != voxels.size:
             if self.texture is not None:
                 self.texture.release()
-            self.texture = self.ctx.texture3d(volume.size, 4, volume.data)
+            self.texture = self.ctx.texture3d(voxels.size, 4, voxels.data)
             self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
             self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
-            self.uploaded_voxels += volume.data.shape[0] * volume.data.shape[1] * volume.data.shape[2]
+            self.uploaded_voxels += voxels.data.shape[0] * voxels.data.shape[1] * voxels.data.shape[2]
         elif box is not None:
             w, h, d = box.shape
-            part = np.ascontiguousarray(volume.data[box.slices()])
+            part = np.ascontiguousarray(voxels.data[box.slices()])
             self.texture.write(part, viewport=(box.x0, box.y0, box.z0, w, h, d))
             self.uploaded_voxels += w * h * d
         return self.texture
 
-    def write_all(self, volume) -> None:
+    def write_all(self, voxels: Voxels) -> None:
         """Re-upload every voxel (the paint bench's baseline against sync's sub-box)."""
-        if self.texture is None or self.texture.size != volume.size:
-            self.sync(volume)  # a new texture takes every voxel anyway
+        if self.texture is None or self.texture.size != voxels.size:
+            self.sync(voxels)  # a new texture takes every voxel anyway
             return
-        self.watch.changes(volume)  # the full upload covers every change
-        self.texture.write(volume.data)
-        self.uploaded_voxels += volume.data.shape[0] * volume.data.shape[1] * volume.data.shape[2]
+        self.watch.changes(voxels)  # the full upload covers every change
+        self.texture.write(voxels.data)
+        self.uploaded_voxels += voxels.data.shape[0] * voxels.data.shape[1] * voxels.data.shape[2]
 
     def read(self) -> np.ndarray:
         """The texture's contents as (d, h, w, 4) uint8: what the GPU really holds."""

@@ -25,7 +25,7 @@ class VolumeWorkspaceRenderer(WorkspaceRendererBase):
         return replace(settings, steps=max(MIN_STEPS, settings.steps * STEP_FACTORS[cheap]))
 
     def render(self, fbo, state, settings: TraceSettings, interactive: bool = False) -> bool:
-        self.tracer.render(fbo, state.volume, state.view, settings)
+        self.tracer.render(fbo, state.volume.voxels, state.view, settings)
         return self.tracer.distance.stale
 
     def idle(self) -> bool:

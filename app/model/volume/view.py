@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from app.model.camera3d import OrbitCamera
-from app.model.volume.volume import AXES
+from app.model.volume.voxels import AXES
 
 AXIS_INDEX = {axis: i for i, axis in enumerate(AXES)}
 # World -> voxel-index axes: the index space has y down and z away from the viewer (an image stack),

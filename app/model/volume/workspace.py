@@ -7,6 +7,7 @@ from typing import Callable
 import numpy as np
 
 from app.model.volume.volume import Volume
+from app.model.volume.voxels import Voxels
 from app.model.volume.samples import make
 from app.model.framing import orbit_distance
 from app.model.volume.view import VolumeView, box_extents
@@ -18,7 +19,7 @@ DEFAULT_SAMPLE = "coords3d"  # Tex3Dtrace opened coords3d by default
 @cache
 def _default_digest() -> str:
     """The opening volume's digest, made once: a demo recorded from it opens with `sample`, not a snapshot."""
-    return Volume(make(DEFAULT_SAMPLE)).digest()
+    return Voxels(make(DEFAULT_SAMPLE)).digest()
 
 
 class VolumeHistory:
@@ -28,16 +29,16 @@ class VolumeHistory:
         self.state = state
 
     def undo(self) -> bool:
-        return self._after(self.state.volume.undo())
+        return self._after(self.state.volume.history.undo())
 
     def redo(self) -> bool:
-        return self._after(self.state.volume.redo())
+        return self._after(self.state.volume.history.redo())
 
     def undo_name(self) -> str | None:
-        return self.state.volume.undo_name()
+        return self.state.volume.history.undo_name()
 
     def redo_name(self) -> str | None:
-        return self.state.volume.redo_name()
+        return self.state.volume.history.redo_name()
 
     def _after(self, done: bool) -> bool:
         if done:
@@ -55,40 +56,40 @@ class VolumeWorkspace(Workspace):
 
     def clamp_slice(self) -> None:
         """After anything that may change the volume's shape, keep the edited slice inside it."""
-        view, volume = self.view, self.volume
-        view.index = min(view.index, volume.depth(view.axis) - 1)
-        if view.highlight and view.highlight[1] >= volume.depth(view.highlight[0]):
+        view, voxels = self.view, self.volume.voxels
+        view.index = min(view.index, voxels.depth(view.axis) - 1)
+        if view.highlight and view.highlight[1] >= voxels.depth(view.highlight[0]):
             view.highlight = None
 
     def middle_slice(self) -> None:
         """After a load: the painter edits the middle slice of its axis (slice 0 of a scan is mostly empty)."""
-        self.view.index = self.volume.depth(self.view.axis) // 2
+        self.view.index = self.volume.voxels.depth(self.view.axis) // 2
         self.clamp_slice()
 
     def version(self) -> tuple:
-        return self.volume.version, self.view.key()
+        return self.volume.voxels.version, self.view.key()
 
     def digest(self) -> dict[str, str]:
-        return {"volume": self.volume.digest(), "volume.view": short_hash(self.view.key())}
+        return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
 
     def document_model(self) -> tuple[object, tuple]:
-        return self.volume, self.volume.history_key
+        return self.volume, self.volume.history.key
 
     def frame_commands(self, aspect: float) -> list[str]:
         cam = self.view.camera
-        extent = np.array(box_extents(self.volume.size))
+        extent = np.array(box_extents(self.volume.voxels.size))
         distance = orbit_distance(cam, -extent, extent, aspect)
         return [f"orbit {cam.yaw!r} {cam.pitch!r} {distance!r}"]
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
         snapshot file beside the demo, a scalar volume's scalars into an .npy and its window into commands."""
-        v, scalars = self.view, self.volume.scalars
+        v, scalars = self.view, self.volume.voxels.scalars
         if scalars is not None:
             t = scalars.transfer
             lines = [f"load {snapshot('.npy')}", f"vol.colormap {t.colormap}",
                      f"vol.window {t.low!r} {t.high!r}"]
-        elif self.volume.digest() == _default_digest():
+        elif self.volume.voxels.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
             lines = [f"load {snapshot()}"]

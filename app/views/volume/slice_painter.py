@@ -13,7 +13,7 @@ from PySide6.QtGui import QBrush, QColor, QImage, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QHBoxLayout, QLabel, QPushButton, QSpinBox,
                                QToolButton, QVBoxLayout, QWidget)
 
-from app.model.volume.volume import AXES
+from app.model.volume.voxels import AXES
 from app.views.keys import key_name
 from app.views.volume.transfer_panel import TransferPanel
 
@@ -46,7 +46,7 @@ class SliceCanvas(QWidget):
 
     # -- geometry ---------------------------------------------------------------------------
     def fit(self) -> None:
-        u, v = self.state.volume.slice_size(self.state.view.axis)
+        u, v = self.state.volume.voxels.slice_size(self.state.view.axis)
         self.zoom = max(0.5, min(self.width() / u, self.height() / v) * 0.92)
         self.offset = QPointF((self.width() - u * self.zoom) / 2, (self.height() - v * self.zoom) / 2)
 
@@ -72,7 +72,7 @@ class SliceCanvas(QWidget):
     def image(self) -> np.ndarray:
         """The slice as RGBA, with the neighbouring slices faint where it is transparent. Kept until the
         voxels or the slice change: the brush cursor repaints on every mouse move."""
-        vol, view = self.state.volume, self.state.view
+        vol, view = self.state.volume.voxels, self.state.view
         key = (id(vol), vol.version, view.axis, view.index)
         if self._image is None or self._image[0] != key:
             self._image = (key, self._compose(vol, view))
@@ -146,9 +146,10 @@ class SliceCanvas(QWidget):
         view = self.state.view
         tool = "pick" if event.modifiers() & Qt.KeyboardModifier.AltModifier else self.tool
         if tool == "pick":
-            su, sv = self.state.volume.slice_size(view.axis)
+            voxels = self.state.volume.voxels
+            su, sv = voxels.slice_size(view.axis)
             if 0 <= u < su and 0 <= v < sv:
-                self.command.emit(f"pick {' '.join(map(str, self.state.volume.voxel_of(view.axis, view.index, u, v)))}")
+                self.command.emit(f"pick {' '.join(map(str, voxels.voxel_of(view.axis, view.index, u, v)))}")
         elif tool == "fill":
             colour = (0, 0, 0, 0) if self.erase else view.brush
             tolerance = self.editor.console.registry.cvars["fill_tolerance"].value
@@ -258,14 +259,14 @@ class SlicePainter(QWidget):
 
     def _set_slice(self, axis: str, index: int) -> None:
         view = self.state.view
-        index = min(index, self.state.volume.depth(axis) - 1)
+        index = min(index, self.state.volume.voxels.depth(axis) - 1)
         if (axis, index) != (view.axis, view.index):
             self.run(f"slice {axis} {index}")
 
     def sync(self) -> None:
         """Show the model's values without sending them back as commands."""
         self.transfer.sync()
-        view, vol = self.state.view, self.state.volume
+        view, vol = self.state.view, self.state.volume.voxels
         cvars = self.editor.console.registry.cvars
         for widget, setter, value in ((self.axis, "setCurrentText", view.axis),
                                       (self.index, "setMaximum", vol.depth(view.axis) - 1),

@@ -5,7 +5,7 @@ from __future__ import annotations
 from PySide6.QtCore import QPoint, QRect
 from PySide6.QtWidgets import QComboBox, QDialog, QDialogButtonBox, QFormLayout, QLabel, QSpinBox
 
-from app.model.volume.volume import AXES
+from app.model.volume.voxels import AXES
 
 
 GAP_PX = 8
@@ -59,7 +59,7 @@ class SlicePicker(QDialog):
 
     def _axis_changed(self, axis: str) -> None:
         self.tool.picker_axis = axis
-        self.index.setMaximum(self.state.volume.depth(axis) - 1)
+        self.index.setMaximum(self.state.volume.voxels.depth(axis) - 1)
         self.index.blockSignals(True)
         self.index.setValue(min(self.state.view.index, self.index.maximum()))
         self.index.blockSignals(False)

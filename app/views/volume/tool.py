@@ -30,7 +30,7 @@ class VolumeTool(ViewportTool):
         vp, view = self.viewport, self.state.view
         p = event.position()
         origin, direction = view.camera.ray(p.x(), p.y(), vp.width(), vp.height())
-        return first_hit(self.state.volume, np.asarray(origin), np.asarray(direction))
+        return first_hit(self.state.volume.voxels, np.asarray(origin), np.asarray(direction))
 
     def slice_under(self, event) -> int | None:
         hit = self.voxel_under(event)
@@ -69,11 +69,11 @@ class VolumeTool(ViewportTool):
         hit = self.voxel_under(event)
         if hit is None:
             return ""
-        r, g, b, a = self.state.volume.pick(*hit)
+        r, g, b, a = self.state.volume.voxels.pick(*hit)
         where = f"voxel {hit[0]} {hit[1]} {hit[2]}"
         if not a:
             return f"{where} (the ray enters the box there, meeting no voxel)"
-        value = self.state.volume.scalar_at(*hit)
+        value = self.state.volume.voxels.scalar_at(*hit)
         return f"{where}   rgba {r} {g} {b} {a}" + ("" if value is None else f"   value {number(value)}")
 
     def tool_name(self) -> str:

@@ -47,7 +47,7 @@ class TransferPanel(QGroupBox):
 
     @property
     def _transfer(self):
-        return self.state.volume.scalars.transfer
+        return self.state.volume.voxels.scalars.transfer
 
     def _send(self, line: str) -> None:
         if not self.run(line):
@@ -55,7 +55,7 @@ class TransferPanel(QGroupBox):
             self.sync()  # refused (low above high): show the model's window again
 
     def sync(self) -> None:
-        scalars = self.state.volume.scalars
+        scalars = self.state.volume.voxels.scalars
         if scalars is self._shown:
             return  # the camera moved, a slice changed...: nothing here
         self._shown = scalars
