@@ -33,7 +33,10 @@ def test_lights_and_hulls_are_edited_by_commands(editor):
     hull = editor.workspaces["lighting2d"].scene.hulls[0]
     assert hull.valid and hull.position == (3, 4) and hull.rotation == 0.5
     assert editor.execute("hull.vertex 0 2 20 20; hull.insert 0 1 5 -5; hull.delete 0 0")
-    assert hull.points.tolist() == [[5, -5], [10, 0], [20, 20], [0, 10]]
+    edited = editor.workspaces["lighting2d"].scene.hulls[0]  # a new hull: the one before stays as it was
+    assert edited.points.tolist() == [[5, -5], [10, 0], [20, 20], [0, 10]]
+    assert hull.points.tolist() == [[0, 0], [10, 0], [10, 10], [0, 10]]
+    assert (edited.position, edited.rotation) == (hull.position, hull.rotation)
     assert editor.execute("light.add spot 0 0; light.add textured 5 5 builtin:flame")
     lights = editor.workspaces["lighting2d"].scene.lights
     assert lights[1].origin == (0.0, 0.5) and lights[2].texture == "builtin:flame"
@@ -80,7 +83,7 @@ def test_invalid_hulls_are_kept_marked_and_reported(editor):
     assert not hull.valid and "cross" in hull.invalid_reason
     assert any("invalid and ignored" in line.text for line in editor.console.log)
     assert editor.execute("hull.vertex 0 1 10 0; hull.vertex 0 2 10 10")  # untangled by editing a vertex
-    assert hull.valid
+    assert editor.workspaces["lighting2d"].scene.hulls[0].valid
 
 
 def test_a_drag_is_one_undo_step_and_undo_redo_restore(editor):

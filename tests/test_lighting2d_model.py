@@ -1,6 +1,7 @@
 """The 2D lighting model: constraints, hull validity and winding, transforms, and the scene file."""
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -38,21 +39,21 @@ def test_valid_hulls_and_winding_normalised():
 
 def test_editing_points_moves_a_hull_between_valid_and_invalid():
     hull = Hull(SQUARE)
-    hull.set_points([(0, 0), (1, 1), (1, 0), (0, 1)])
-    assert not hull.valid
-    hull.set_points(SQUARE)
-    assert hull.valid
+    tangled = replace(hull, points=[(0, 0), (1, 1), (1, 0), (0, 1)])
+    assert not tangled.valid and hull.valid
+    assert replace(tangled, points=SQUARE).valid and not tangled.valid
 
 
-def test_world_transform_and_dirty_flag():
+def test_world_transform_worked_out_once_per_hull():
     hull = Hull(SQUARE, position=(10, 5), origin=(0.5, 0.5), rotation=math.pi / 2, scale=(2, 2))
     world = hull.world()
-    assert world is hull.world()  # cached until something changes
+    assert world is hull.world()  # worked out once
     np.testing.assert_allclose(world.mean(axis=0), (10, 5), atol=1e-12)
     np.testing.assert_allclose(world[0], (11, 4), atol=1e-12)  # (-1, -1) turned a quarter: (1, -1)
-    hull.set_transform((0, 0), (0, 0), 0.0, (1, 1))
-    np.testing.assert_allclose(hull.world(), hull.points)
-    assert hull.contains(0.5, 0.5) and not hull.contains(1.5, 0.5)
+    placed = replace(hull, position=(0, 0), origin=(0, 0), rotation=0.0, scale=(1, 1))
+    np.testing.assert_allclose(placed.world(), placed.points)
+    assert placed.contains(0.5, 0.5) and not placed.contains(1.5, 0.5)
+    np.testing.assert_allclose(hull.world(), world)  # the hull it came from is unchanged
 
 
 @pytest.mark.parametrize("kwargs, needle", [
@@ -115,3 +116,4 @@ def test_outlines_overlap_only_where_they_share_interior():
     assert outlines_overlap([square, square + (0.5, 0.5)])
     assert outlines_overlap([square, 0.5 * square + (0.25, 0.25)])  # one inside the other
     assert not outlines_overlap([square]) and not outlines_overlap([])
+
