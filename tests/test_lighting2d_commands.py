@@ -98,6 +98,25 @@ def test_a_drag_is_one_undo_step_and_undo_redo_restore(editor):
     assert editor.execute("undo; undo") and editor.digest() == moved
 
 
+def test_an_edit_puts_a_new_scene_in_place_and_undo_the_snapshot_itself(editor):
+    """Undo's snapshots are the frozen scenes themselves, never copies: an edit leaves the one before untouched."""
+    state = editor.workspaces["lighting2d"]
+    editor.execute("light.add point 0 0; hull.add 0 0 10 0 10 10 0 10; light.set 0 ignored_hulls 0")
+    before = state.scene
+    digest, points = before.digest(), before.hulls[0].points.copy()
+    edits = ("light.move 0 5 5", "light.set 0 color 1 0 0", "hull.move 0 3 4", "hull.set 0 rotation 1",
+             "hull.vertex 0 1 20 0", "hull.insert 0 1 5 -5", "hull.delete 0 0", "ambient 0 0 1",
+             "lighting.background builtin:white", "lighting.normalmap builtin:bumps", "hull.remove 0", "lighting.clear")
+    for line in edits:
+        assert editor.execute(line), errors(editor)
+    assert state.scene is not before and before.digest() == digest
+    assert before.lights[0].position == (0, 0) and before.lights[0].ignored_hulls == (0,)
+    np.testing.assert_array_equal(before.hulls[0].points, points)
+    for _ in edits:
+        assert editor.execute("undo")
+    assert state.scene is before
+
+
 def test_scene_files_round_trip_and_malformed_ones_change_nothing(editor, tmp_path):
     editor.execute("lighting.sample g_overlapping_hulls; lighting.view 12 34 300")
     path = tmp_path / "scene.json"

@@ -1,7 +1,7 @@
 """The 2D lighting model: constraints, hull validity and winding, transforms, and the scene file."""
 import json
 import math
-from dataclasses import replace
+from dataclasses import FrozenInstanceError, replace
 
 import numpy as np
 import pytest
@@ -117,3 +117,34 @@ def test_outlines_overlap_only_where_they_share_interior():
     assert outlines_overlap([square, 0.5 * square + (0.25, 0.25)])  # one inside the other
     assert not outlines_overlap([square]) and not outlines_overlap([])
 
+
+def test_scene_values_are_immutable_and_an_edit_leaves_the_scene_before_untouched():
+    light, hull = Light(position=(3, 4), ignored_hulls=(0, 1)), Hull(SQUARE, position=(5, 5))
+    scene = Scene2D(lights=[light], hulls=[hull, Hull(star(5))])
+    for thing, name, value in ((scene, "ambient", (0, 0, 0)), (scene, "lights", ()), (light, "radius", 3.0),
+                               (hull, "position", (0, 0)), (hull, "points", np.zeros((3, 2)))):
+        with pytest.raises(FrozenInstanceError):
+            setattr(thing, name, value)
+    for array in (hull.points, hull.world(), hull.world_pieces()[0]):
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = (9, 9)
+    assert isinstance(scene.lights, tuple) and isinstance(scene.hulls, tuple)
+    digest, world = scene.digest(), hull.world().copy()
+    moved = scene.with_hull(0, replace(hull, position=(50, 50))).with_light(0, replace(light, radius=3.0))
+    removed = moved.remove_hull(0)
+    assert removed.lights[0].ignored_hulls == (0,) and moved.lights[0].ignored_hulls == (0, 1)  # renumbered
+    assert scene.digest() == digest and scene.lights == (light,) and scene.hulls[0] is hull
+    np.testing.assert_array_equal(hull.world(), world)
+    assert light.radius == 20.0 and hull.position == (5.0, 5.0)
+
+
+def test_a_moved_hull_shares_its_outline_with_the_hull_before():
+    """Its points' validity and convex pieces are worked out once, however often a drag moves it; a clockwise
+    hull's too (stored counter-clockwise, which its moved copies are made from)."""
+    for points in (star(50), star(50)[::-1]):
+        hull = Hull(points)
+        pieces = hull.outline.pieces
+        assert len(pieces) > 1
+        moved = replace(replace(hull, position=(10, 0)), rotation=1.0, enabled=False)
+        assert moved.outline is hull.outline and moved.outline.pieces is pieces
+        assert replace(hull, points=hull.points[:-1]).outline is not hull.outline
