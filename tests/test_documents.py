@@ -102,7 +102,7 @@ def test_new_and_samples_leave_an_untitled_scene_and_volume_verbs_name_the_file(
     assert editor.execute(f"open {SCENES / 'f_concave_star.json'}")
     assert editor.execute("scene.new")
     assert current(editor) == (None, False)
-    assert editor.workspaces["lighting2d"].scene.hulls == []
+    assert editor.workspaces["lighting2d"].scene.hulls == ()
     assert editor.execute("lighting.sample a_penumbra_transition")
     assert current(editor) == (None, False)
     assert editor.execute("workspace volume") and editor.execute("save v.r3")  # the volume's own verbs

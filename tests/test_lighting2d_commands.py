@@ -33,7 +33,10 @@ def test_lights_and_hulls_are_edited_by_commands(editor):
     hull = editor.workspaces["lighting2d"].scene.hulls[0]
     assert hull.valid and hull.position == (3, 4) and hull.rotation == 0.5
     assert editor.execute("hull.vertex 0 2 20 20; hull.insert 0 1 5 -5; hull.delete 0 0")
-    assert hull.points.tolist() == [[5, -5], [10, 0], [20, 20], [0, 10]]
+    edited = editor.workspaces["lighting2d"].scene.hulls[0]  # a new hull: the one before stays as it was
+    assert edited.points.tolist() == [[5, -5], [10, 0], [20, 20], [0, 10]]
+    assert hull.points.tolist() == [[0, 0], [10, 0], [10, 10], [0, 10]]
+    assert (edited.position, edited.rotation) == (hull.position, hull.rotation)
     assert editor.execute("light.add spot 0 0; light.add textured 5 5 builtin:flame")
     lights = editor.workspaces["lighting2d"].scene.lights
     assert lights[1].origin == (0.0, 0.5) and lights[2].texture == "builtin:flame"
@@ -80,7 +83,7 @@ def test_invalid_hulls_are_kept_marked_and_reported(editor):
     assert not hull.valid and "cross" in hull.invalid_reason
     assert any("invalid and ignored" in line.text for line in editor.console.log)
     assert editor.execute("hull.vertex 0 1 10 0; hull.vertex 0 2 10 10")  # untangled by editing a vertex
-    assert hull.valid
+    assert editor.workspaces["lighting2d"].scene.hulls[0].valid
 
 
 def test_a_drag_is_one_undo_step_and_undo_redo_restore(editor):
@@ -93,6 +96,25 @@ def test_a_drag_is_one_undo_step_and_undo_redo_restore(editor):
     assert editor.execute("redo") and editor.digest() == moved
     editor.execute("light.set 0 radius 3; hull.add 0 0 5 0 5 5")
     assert editor.execute("undo; undo") and editor.digest() == moved
+
+
+def test_an_edit_puts_a_new_scene_in_place_and_undo_the_snapshot_itself(editor):
+    """Undo's snapshots are the frozen scenes themselves, never copies: an edit leaves the one before untouched."""
+    state = editor.workspaces["lighting2d"]
+    editor.execute("light.add point 0 0; hull.add 0 0 10 0 10 10 0 10; light.set 0 ignored_hulls 0")
+    before = state.scene
+    digest, points = before.digest(), before.hulls[0].points.copy()
+    edits = ("light.move 0 5 5", "light.set 0 color 1 0 0", "hull.move 0 3 4", "hull.set 0 rotation 1",
+             "hull.vertex 0 1 20 0", "hull.insert 0 1 5 -5", "hull.delete 0 0", "ambient 0 0 1",
+             "lighting.background builtin:white", "lighting.normalmap builtin:bumps", "hull.remove 0", "lighting.clear")
+    for line in edits:
+        assert editor.execute(line), errors(editor)
+    assert state.scene is not before and before.digest() == digest
+    assert before.lights[0].position == (0, 0) and before.lights[0].ignored_hulls == (0,)
+    np.testing.assert_array_equal(before.hulls[0].points, points)
+    for _ in edits:
+        assert editor.execute("undo")
+    assert state.scene is before
 
 
 def test_scene_files_round_trip_and_malformed_ones_change_nothing(editor, tmp_path):

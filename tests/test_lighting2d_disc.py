@@ -4,6 +4,7 @@ first where the hulls lie apart, the shadows' union where two overlap) against t
 random scenes, the sample scenes k, l and m, and the degenerate cases of the closed form (a vertex on
 the circle, an edge touching it, pieces of one hull meeting at a vertex)."""
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -51,11 +52,10 @@ def random_scene(seed: int) -> Scene2D:
     while True:
         near = hulls[int(rng.integers(len(hulls)))].world().mean(axis=0)
         light = Light(position=tuple(near + rng.normal(0, radius + 30, 2)), scale=(500, 500), radius=radius)
-        scene.lights = [light]
-        index = SceneIndex(scene)
+        lit = replace(scene, lights=(light,))
+        index = SceneIndex(lit)
         if index.disc_touched(light) and not index.centre_blocked(light):
-            scene.view = (*light.position, 400.0)
-            return scene
+            return replace(lit, view=(*light.position, 400.0))
 
 
 @pytest.fixture(scope="module")
@@ -181,7 +181,7 @@ def test_hull_semantics_hold_where_hulls_enter_the_disc(renderer, kind):
     """The disc program finds the pixel's own hull as the interval one does: lit inside (illuminated), or
     lit by what the other hull lets through (occluded)."""
     scene = scene2d.load(SCENES / "m_disc_touching_two_hulls.json")
-    scene.lights[0].shadow_type = kind
+    scene = scene.with_light(0, replace(scene.lights[0], shadow_type=kind))
     image = renderer.read_lightmap(scene, Camera2D(*scene.view), (128, 80), Shading2D(method="exact"))
     exact = reference.render(scene, 128, 80)
     assert float(np.abs(image - exact).max()) <= TWO

@@ -3,6 +3,7 @@ cases of the issue (invalid hulls, a light inside or on a hull, radius 0, a disc
 coordinates near 1e6, a light outside the view, 1,000-vertex hulls; 10,000 hulls far away are in
 test_lighting2d_offview.py)."""
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -68,7 +69,7 @@ def test_two_hulls_hiding_the_same_half_hide_half(renderer):
     """Penumbra adds the two shadows (full dark); the exact method fuses them (half)."""
     half = [(0, 0), (8, 0), (8, 40), (0, 40)]
     scene = one_light(hulls=[Hull(half, position=(50, 0)), Hull(half, position=(80, 0))], intensity=1e-4)
-    scene.view = (150, 0, 40)
+    scene = replace(scene, view=(150, 0, 40))
     exact = reference.render(scene, 16, 8)
     centre = (4, 8)  # on the axis, behind both hulls
     assert abs(exact[centre][0] - 0.5) < 0.05
@@ -98,7 +99,7 @@ def test_invalid_hulls_are_ignored(renderer, points):
 @pytest.mark.parametrize("at", [(0, 0), (20, 5)])  # inside; exactly on the right edge
 def test_a_light_inside_or_on_a_hull_is_not_drawn(renderer, at):
     scene = one_light(hulls=[Hull(SQUARE, position=(0, 0))])
-    scene.lights[0].position = at
+    scene = scene.with_light(0, replace(scene.lights[0], position=at))
     for method in METHODS:
         image = lightmap(renderer, scene, method)
         assert renderer.stats.skipped_inside == [0] and image.max() == 0
@@ -127,19 +128,17 @@ def test_a_disc_far_larger_than_the_hull(renderer):
 
 def test_coordinates_near_a_million_keep_their_precision(renderer):
     near = scene2d.load(SCENES / "g_overlapping_hulls.json")
-    far = scene2d.load(SCENES / "g_overlapping_hulls.json")
     shift = np.array([1e6, -1e6])
-    for light in far.lights:
-        light.position = tuple(np.array(light.position) + shift)
-    for hull in far.hulls:
-        hull.set_transform(tuple(np.array(hull.position) + shift), hull.origin, hull.rotation, hull.scale)
-    far.view = (near.view[0] + shift[0], near.view[1] + shift[1], near.view[2])
+    far = replace(near, lights=[replace(light, position=tuple(np.array(light.position) + shift))
+                                for light in near.lights],
+                  hulls=[replace(hull, position=tuple(np.array(hull.position) + shift)) for hull in near.hulls],
+                  view=(near.view[0] + shift[0], near.view[1] + shift[1], near.view[2]))
     assert max_error(lightmap(renderer, far), lightmap(renderer, near)) <= TWO
 
 
 def test_a_light_outside_the_view_casts_its_shadow_into_it(renderer):
-    scene = one_light(hulls=[Hull(SQUARE, position=(60, 0))])
-    scene.view = (180, 0, 100)  # x 100..260: neither the light (x 0) nor the hull (x 40..80) is in view
+    # x 100..260: neither the light (x 0) nor the hull (x 40..80) is in view
+    scene = replace(one_light(hulls=[Hull(SQUARE, position=(60, 0))]), view=(180, 0, 100))
     exact = reference.render(scene, *SIZE)
     image = lightmap(renderer, scene)
     assert renderer.stats.lights_drawn == 1
@@ -148,8 +147,7 @@ def test_a_light_outside_the_view_casts_its_shadow_into_it(renderer):
 
 
 def test_lights_whose_quad_misses_the_view_cost_nothing(renderer):
-    scene = one_light()
-    scene.view = (2000, 0, 100)
+    scene = replace(one_light(), view=(2000, 0, 100))
     assert lightmap(renderer, scene).max() == 0
     assert renderer.stats.lights_culled == 1 and renderer.stats.lights_drawn == 0
 

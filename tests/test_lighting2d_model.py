@@ -1,6 +1,7 @@
 """The 2D lighting model: constraints, hull validity and winding, transforms, and the scene file."""
 import json
 import math
+from dataclasses import FrozenInstanceError, replace
 
 import numpy as np
 import pytest
@@ -38,21 +39,21 @@ def test_valid_hulls_and_winding_normalised():
 
 def test_editing_points_moves_a_hull_between_valid_and_invalid():
     hull = Hull(SQUARE)
-    hull.set_points([(0, 0), (1, 1), (1, 0), (0, 1)])
-    assert not hull.valid
-    hull.set_points(SQUARE)
-    assert hull.valid
+    tangled = replace(hull, points=[(0, 0), (1, 1), (1, 0), (0, 1)])
+    assert not tangled.valid and hull.valid
+    assert replace(tangled, points=SQUARE).valid and not tangled.valid
 
 
-def test_world_transform_and_dirty_flag():
+def test_world_transform_worked_out_once_per_hull():
     hull = Hull(SQUARE, position=(10, 5), origin=(0.5, 0.5), rotation=math.pi / 2, scale=(2, 2))
     world = hull.world()
-    assert world is hull.world()  # cached until something changes
+    assert world is hull.world()  # worked out once
     np.testing.assert_allclose(world.mean(axis=0), (10, 5), atol=1e-12)
     np.testing.assert_allclose(world[0], (11, 4), atol=1e-12)  # (-1, -1) turned a quarter: (1, -1)
-    hull.set_transform((0, 0), (0, 0), 0.0, (1, 1))
-    np.testing.assert_allclose(hull.world(), hull.points)
-    assert hull.contains(0.5, 0.5) and not hull.contains(1.5, 0.5)
+    placed = replace(hull, position=(0, 0), origin=(0, 0), rotation=0.0, scale=(1, 1))
+    np.testing.assert_allclose(placed.world(), placed.points)
+    assert placed.contains(0.5, 0.5) and not placed.contains(1.5, 0.5)
+    np.testing.assert_allclose(hull.world(), world)  # the hull it came from is unchanged
 
 
 @pytest.mark.parametrize("kwargs, needle", [
@@ -115,3 +116,35 @@ def test_outlines_overlap_only_where_they_share_interior():
     assert outlines_overlap([square, square + (0.5, 0.5)])
     assert outlines_overlap([square, 0.5 * square + (0.25, 0.25)])  # one inside the other
     assert not outlines_overlap([square]) and not outlines_overlap([])
+
+
+def test_scene_values_are_immutable_and_an_edit_leaves_the_scene_before_untouched():
+    light, hull = Light(position=(3, 4), ignored_hulls=(0, 1)), Hull(SQUARE, position=(5, 5))
+    scene = Scene2D(lights=[light], hulls=[hull, Hull(star(5))])
+    for thing, name, value in ((scene, "ambient", (0, 0, 0)), (scene, "lights", ()), (light, "radius", 3.0),
+                               (hull, "position", (0, 0)), (hull, "points", np.zeros((3, 2)))):
+        with pytest.raises(FrozenInstanceError):
+            setattr(thing, name, value)
+    for array in (hull.points, hull.world(), hull.world_pieces()[0]):
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = (9, 9)
+    assert isinstance(scene.lights, tuple) and isinstance(scene.hulls, tuple)
+    digest, world = scene.digest(), hull.world().copy()
+    moved = scene.with_hull(0, replace(hull, position=(50, 50))).with_light(0, replace(light, radius=3.0))
+    removed = moved.remove_hull(0)
+    assert removed.lights[0].ignored_hulls == (0,) and moved.lights[0].ignored_hulls == (0, 1)  # renumbered
+    assert scene.digest() == digest and scene.lights == (light,) and scene.hulls[0] is hull
+    np.testing.assert_array_equal(hull.world(), world)
+    assert light.radius == 20.0 and hull.position == (5.0, 5.0)
+
+
+def test_a_moved_hull_shares_its_outline_with_the_hull_before():
+    """Its points' validity and convex pieces are worked out once, however often a drag moves it; a clockwise
+    hull's too (stored counter-clockwise, which its moved copies are made from)."""
+    for points in (star(50), star(50)[::-1]):
+        hull = Hull(points)
+        pieces = hull.outline.pieces
+        assert len(pieces) > 1
+        moved = replace(replace(hull, position=(10, 0)), rotation=1.0, enabled=False)
+        assert moved.outline is hull.outline and moved.outline.pieces is pieces
+        assert replace(hull, points=hull.points[:-1]).outline is not hull.outline

@@ -23,8 +23,8 @@ SIZE = (128, 80)
 def crowded():
     scene = offview_scene(OFFVIEW_HULLS)
     # far away too: an invalid hull (drawn in red when in view) and a disabled one (outlined by the wireframe)
-    scene.hulls.append(Hull([(0, 0), (10, 10), (10, 0), (0, 10)], position=(9_000, 0)))
-    scene.hulls.append(Hull([(0, 0), (10, 0), (0, 10)], position=(9_100, 0), enabled=False))
+    scene = scene.add_hull(Hull([(0, 0), (10, 10), (10, 0), (0, 10)], position=(9_000, 0)))
+    scene = scene.add_hull(Hull([(0, 0), (10, 0), (0, 10)], position=(9_100, 0), enabled=False))
     assert not scene.hulls[-2].valid
     return scene
 

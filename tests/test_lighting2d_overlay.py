@@ -1,6 +1,8 @@
 """The 2D editor's overlay builds and uploads its lines only when the scene, the view or the selection changed,
 and draws the icons of the lights in view only. Work is counted (layers built, segments uploaded, icons),
 never timed; the frames are compared as pixels."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -19,11 +21,9 @@ PER_ICON = len(ICON_LINES) + len(ICON_RIM)  # segments: the sun's lines and thei
 
 def scene(far_lights: int) -> Scene2D:
     """Two lights and a hull in a 400-unit high view about (0, 0), and `far_lights` lights 10,000 units away."""
-    s = Scene2D(view=(0.0, 0.0, 400.0))
-    s.lights += [Light(position=(-60.0, 30.0), radius=8.0), Light(position=(70.0, -40.0), radius=8.0)]
-    s.lights += [Light(position=(10_000.0 + 50 * k, 0.0), radius=8.0) for k in range(far_lights)]
-    s.hulls.append(Hull([(0, 0), (30, 0), (30, 30), (0, 30)], position=(0, 0)))
-    return s
+    near = [Light(position=(-60.0, 30.0), radius=8.0), Light(position=(70.0, -40.0), radius=8.0)]
+    far = [Light(position=(10_000.0 + 50 * k, 0.0), radius=8.0) for k in range(far_lights)]
+    return Scene2D(view=(0.0, 0.0, 400.0), lights=near + far, hulls=[Hull([(0, 0), (30, 0), (30, 30), (0, 30)])])
 
 
 @pytest.fixture
@@ -60,8 +60,7 @@ def test_a_still_frame_builds_and_uploads_no_overlay_lines(editor_frame, setting
     state.camera.cx += 10.0  # the view moved: the lines are built again where it shows them
     panned, _ = editor_frame(state, settings)
     assert panned.layers_built == 2 and panned.segments_uploaded == first.segments_uploaded
-    state.scene.lights[0].position = (-50.0, 30.0)
-    state.scene.touch()  # an edit
+    state.scene = state.scene.with_light(0, replace(state.scene.lights[0], position=(-50.0, 30.0)))  # an edit
     edited, _ = editor_frame(state, settings)
     assert edited.layers_built == 2
 
@@ -75,10 +74,10 @@ def test_the_icons_of_lights_outside_the_view_are_not_drawn(editor_frame):
 
 
 def test_an_icon_whose_centre_is_just_outside_the_view_still_shows(editor_frame):
-    s = Scene2D(view=(0.0, 0.0, 400.0))
     unit = 400.0 / SIZE[1]  # world units a pixel, in a 400-unit high view
     edge = 200.0 * SIZE[0] / SIZE[1]  # the view's right edge
-    s.lights += [Light(position=(edge + 0.5 * ICON_PX * unit, 0.0)), Light(position=(edge + 2 * ICON_PX * unit, 0.0))]
+    lights = [Light(position=(edge + 0.5 * ICON_PX * unit, 0.0)), Light(position=(edge + 2 * ICON_PX * unit, 0.0))]
+    s = Scene2D(view=(0.0, 0.0, 400.0), lights=lights)
     assert len(icons_in(s, unit, -edge, -200.0, edge, 200.0)) == 1  # half of the first one's rays show
     stats, pixels = editor_frame(Lighting2DWorkspace(s))
     assert stats.icons == 1

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -110,15 +111,15 @@ def peer_scene(lights: int, hulls: int, size=(1280, 720), seed: int = 7):
     light_pos = rng.uniform((0, 0), (w, h), (lights, 2))
     side = 20.0 * w / 1280
     hull_pos = rng.uniform((0, 0), (w, h), (hulls, 2))
-    scene = Scene2D(ambient=(0.1, 0.1, 0.1), view=(w / 2, h / 2, float(h)), background="builtin:white")
-    for x, y in hull_pos:
-        scene.hulls.append(Hull([(0, 0), (side, 0), (side, side), (0, side)], position=(x, y)))
+    hulls = [Hull([(0, 0), (side, 0), (side, side), (0, side)], position=(x, y)) for x, y in hull_pos]
+    lights = []
     # a light whose centre is in a hull is not drawn by us; nudge it out so both engines draw it
     for x, y in light_pos:
-        while any(hl.contains(x, y) for hl in scene.hulls):
+        while any(hl.contains(x, y) for hl in hulls):
             x += side
-        scene.lights.append(Light(position=(x, y), scale=(2 * reach, 2 * reach), radius=0.0,
-                                  color=(colour, colour, colour)))
+        lights.append(Light(position=(x, y), scale=(2 * reach, 2 * reach), radius=0.0, color=(colour, colour, colour)))
+    scene = Scene2D(ambient=(0.1, 0.1, 0.1), lights=lights, hulls=hulls, view=(w / 2, h / 2, float(h)),
+                    background="builtin:white")
     peer = {"ambient": scene.ambient,
             "lights": [{"position": light.position, "radius": reach, "color": light.color, "power": 1.0,
                         "casts_shadows": True} for light in scene.lights],
@@ -177,9 +178,8 @@ def offview_scene(hulls: int, seed: int = 3) -> Scene2D:
     """Scene j with `hulls` small squares 5,000..15,000 units to its right, far outside its view."""
     scene = scene2d.load(SCENES / "j_concave_three_lights.json")
     square = [(0, 0), (12, 0), (12, 12), (0, 12)]
-    for x, y in np.random.default_rng(seed).uniform((5_000, -5_000), (15_000, 5_000), (hulls, 2)):
-        scene.hulls.append(Hull(square, position=(x, y)))
-    return scene
+    far = np.random.default_rng(seed).uniform((5_000, -5_000), (15_000, 5_000), (hulls, 2))
+    return replace(scene, hulls=scene.hulls + tuple(Hull(square, position=(x, y)) for x, y in far))
 
 
 def offscreen_rows(ctx, size, rounds: int, progress) -> list[Row]:

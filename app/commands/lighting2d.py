@@ -1,15 +1,19 @@
 """The 2D lighting verbs (seed 000). Every edit of lights, hulls and the view is one of these commands,
 so demos record it, Lua scripts it and `undo` takes it back. Angles are radians; colours are 0..1;
-hull vertex commands take the hull's local coordinates."""
+hull vertex commands take the hull's local coordinates. The scene is a value: each edit puts a new one in
+place, after undo's checkpoint (one key for a run of edits, a drag: one step)."""
 from __future__ import annotations
 
 import dataclasses
 import math
+from dataclasses import replace
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from app.console import files
+from app.console.command_set import CommandSet, Context
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import SCRIPTS, CommandError, Cvar
@@ -30,10 +34,218 @@ LIGHT_TUPLES = {"position", "origin", "scale", "color"}
 LIGHT_FLOATS = {"rotation", "intensity", "radius", "cone_decay", "height"}
 LIGHT_BOOLS = {"enabled", "casts_shadows"}
 LIGHT_WORDS = {"kind", "shadow_type", "texture"}
+LIGHT_PROPERTIES = sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS | {"ignored_hulls"})
+COMMANDS = CommandSet("lighting2d")
+Ctx = Context[Lighting2DWorkspace]
 
 
 def sample_names() -> list[str]:
     return sorted(p.stem for p in SCENES.glob("*.json"))
+
+
+def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) -> None:
+    """The cvars, the commands and their checks for demos (`checks`); the workspace opens on a sample scene."""
+    ctx = Ctx(console, state)
+    # Index checks read the light and hull counts, a light.set check the light's other properties (a
+    # texture for kind textured): after any of these a demo's checker cannot know them.
+    checks.reshaped_by("lighting2d", "light.add", "light.remove", "light.set", "hull.add", "hull.draw", "hull.remove",
+                       "hull.points", "hull.insert", "hull.delete", "lighting.clear", "lighting.sample",
+                       "scene.load", "undo", "redo")
+    reg = console.registry.scoped(state.name)
+    reg.add_cvar(Cvar("r_shadowMethod", str, "exact", "2D soft shadows: " + ", ".join(METHODS), archive=True,
+                      choices=METHODS))
+    reg.add_cvar(Cvar("r_shadowSamples", int, 16, "jitter: hard shadows averaged", min=1, max=64, archive=True))
+    reg.add_cvar(Cvar("r_shadowBlur", float, 0.25, "blur: Gaussian sigma as a share of the light radius",
+                      min=0.01, max=4.0, archive=True))
+    reg.add_cvar(Cvar("r_lightmapScale", float, 1.0, "2D lightmap resolution relative to the screen",
+                      min=0.125, max=1.0, archive=True))
+    reg.add_cvar(Cvar("r_normalMaps", bool, True, "normal-mapped 2D lighting where lights have a height", archive=True))
+    reg.add_cvar(Cvar("r_flipY", bool, False, "2D world with y pointing down (screen coordinates)"))
+    reg.add_cvar(Cvar("r_debug2d", bool, False, "draw hulls, lights and their reach as wireframe", archive=True))
+    state.files = SceneFiles(partial(load, ctx), partial(save, ctx), (".json",), scene_file.FORMAT,
+                             new=partial(clear, ctx), replacing=("lighting.sample",))
+    state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene, framed whole
+    state.camera.cx, state.camera.cy, state.camera.height = state.framed_view(START_ASPECT)
+    COMMANDS.register(console.registry, ctx, checks)
+
+
+def render_settings(console: Console, state: Lighting2DWorkspace) -> Shading2D:
+    """The 2D renderer's settings from the cvars."""
+    cvars = console.registry.cvars
+    return Shading2D(method=cvars["r_shadowMethod"].value, samples=cvars["r_shadowSamples"].value,
+                     blur=cvars["r_shadowBlur"].value, lightmap_scale=cvars["r_lightmapScale"].value,
+                     flip_y=cvars["r_flipY"].value, normal_maps=cvars["r_normalMaps"].value,
+                     debug=cvars["r_debug2d"].value)
+
+
+# ---- helpers ---------------------------------------------------------------------------------------
+
+
+def _built(build, *args, **values):
+    """`build(*args, **values)`: a model's constructor or `replace`, its refusal as the command's message."""
+    try:
+        return build(*args, **values)
+    except Lighting2DError as exc:
+        raise CommandError(str(exc)) from None
+
+
+def _room(items: tuple, limit: int) -> None:
+    if len(items) >= limit:
+        raise CommandError(f"a scene holds at most {limit} of them")
+
+
+def _check_image(name: str) -> None:
+    if len(name) > scene_file.MAX_IMAGE_NAME:
+        raise CommandError(f"an image name has at most {scene_file.MAX_IMAGE_NAME} characters")
+    try:
+        image(name)
+    except Lighting2DError as exc:
+        raise CommandError(str(exc)) from None
+
+
+@COMMANDS.check("lighting.background")
+def check_image(ctx: Ctx, name: str) -> None:
+    """An image a scene may name; a script, demo or config may name only files it may read."""
+    if not name.startswith(BUILTIN):
+        files.readable(ctx.console, name)
+    _check_image(name)
+
+
+# ---- scene -----------------------------------------------------------------------------------------
+
+
+@COMMANDS.command("lighting.clear", "", "Empty the 2D scene (ambient, view and images stay)", allow=SCRIPTS)
+def clear(ctx: Ctx) -> None:
+    ctx.state.history.checkpoint("Clear Scene")
+    ctx.state.scene = ctx.state.scene.cleared()
+
+
+@COMMANDS.check("lighting.sample")
+def sample_path(ctx: Ctx, name: str) -> Path:
+    path = SCENES / f"{name}.json"
+    if not path.is_file():
+        raise CommandError(f"no sample scene {name!r}; there are {', '.join(sample_names())}")
+    return path
+
+
+def _samples_from(ctx: Ctx, prefix: str) -> list[str]:
+    return [n for n in sample_names() if n.startswith(prefix)]
+
+
+@COMMANDS.command("lighting.sample", "name", "Load a sample 2D scene: " + ", ".join(sample_names()),
+                  completer=_samples_from, allow=SCRIPTS)
+def sample(ctx: Ctx, name: str) -> None:
+    load(ctx, sample_path(ctx, name))
+
+
+def load(ctx: Ctx, path: str | Path) -> str:
+    try:
+        loaded = scene_file.load(path, may_read=lambda name: files.readable(ctx.console, name))
+    except (Lighting2DError, OSError) as exc:
+        raise CommandError(str(exc)) from None
+    for _where, name in loaded.images():
+        check_image(ctx, name)
+    ctx.state.history.checkpoint("Load Scene")
+    ctx.state.replace(loaded)
+    ctx.console.print(f"loaded {count(len(loaded.lights), 'light')} and {count(len(loaded.hulls), 'hull')} "
+                      f"from {Path(path).name}")
+    return str(path)
+
+
+def save(ctx: Ctx, path) -> None:
+    """The scene with the view the camera shows (a file keeps its view)."""
+    cam = ctx.state.camera
+    scene_file.save(path, replace(ctx.state.scene, view=(cam.cx, cam.cy, cam.height)))
+
+
+@COMMANDS.check("ambient")
+def ambient_value(ctx: Ctx, r: float, g: float, b: float) -> tuple[float, float, float]:
+    return _built(Scene2D, ambient=(r, g, b)).ambient
+
+
+@COMMANDS.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)", allow=SCRIPTS)
+def ambient(ctx: Ctx, *rgb: float) -> None:
+    value = ambient_value(ctx, *rgb)
+    ctx.state.history.checkpoint("Set Ambient")
+    ctx.state.scene = replace(ctx.state.scene, ambient=value)
+
+
+@COMMANDS.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path",
+                  allow=SCRIPTS)
+def background(ctx: Ctx, name: str) -> None:
+    check_image(ctx, name)
+    ctx.state.history.checkpoint("Set Background")
+    ctx.state.scene = replace(ctx.state.scene, background=name)
+
+
+@COMMANDS.check("lighting.normalmap")
+def normal_map_name(ctx: Ctx, name: str) -> str | None:
+    """The normal map `name` stands for (None for `none`), or a refusal."""
+    if name == "none":
+        return None
+    check_image(ctx, name)
+    return name
+
+
+@COMMANDS.command("lighting.normalmap", "image",
+                  "Normals for lights with a height: builtin:NAME, a PNG path, or none", allow=SCRIPTS)
+def normalmap(ctx: Ctx, name: str) -> None:
+    value = normal_map_name(ctx, name)
+    ctx.state.history.checkpoint("Set Normal Map")
+    ctx.state.scene = replace(ctx.state.scene, normal_map=value)
+
+
+@COMMANDS.check("lighting.view")
+def view_values(ctx: Ctx, cx: float, cy: float, height: float) -> tuple[float, float, float]:
+    if not (math.isfinite(cx) and math.isfinite(cy) and math.isfinite(height)) or height <= 0:
+        raise CommandError(f"the view needs a finite centre and a height > 0, got {cx:g} {cy:g} {height:g}")
+    storable("the view", cx, cy, height)
+    return cx, cy, height
+
+
+@COMMANDS.command("lighting.view", "cx:float cy:float height:float",
+                  "Centre the 2D view and set the world height shown", quiet=True, allow=SCRIPTS)
+def view(ctx: Ctx, *values: float) -> None:
+    cam = ctx.state.camera
+    cam.cx, cam.cy, cam.height = view_values(ctx, *values)
+
+
+# ---- lights ----------------------------------------------------------------------------------------
+
+
+@COMMANDS.check("light.remove", "lighting2d")
+def light_at(ctx: Ctx, index: int) -> Light:
+    lights = ctx.state.scene.lights
+    if not 0 <= index < len(lights):
+        raise CommandError(f"no light {index}; there are {len(lights)}")
+    return lights[index]
+
+
+@COMMANDS.check("light.add")
+def new_light(ctx: Ctx, kind: str, x: float, y: float, texture: str | None = None) -> Light:
+    extra = {"origin": (0.0, 0.5), "scale": (300.0, 200.0)} if kind == "spot" else {}
+    if kind == "textured":
+        texture = texture or "builtin:window"
+        check_image(ctx, texture)
+        extra["radius"] = 5.0
+    storable("the light position", x, y)
+    return _built(Light, kind=kind, position=(x, y), texture=texture, **extra)
+
+
+def _kinds_from(ctx: Ctx, prefix: str) -> list[str]:
+    return [k for k in LIGHT_KINDS if k.startswith(prefix)]
+
+
+@COMMANDS.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
+                  completer=_kinds_from, allow=SCRIPTS)
+def light_add(ctx: Ctx, kind: str, x: float, y: float, texture: str | None = None) -> None:
+    light = new_light(ctx, kind, x, y, texture)
+    scene = ctx.state.scene
+    _room(scene.lights, scene_file.MAX_LIGHTS)
+    ctx.state.history.checkpoint("Add Light")
+    ctx.state.scene = scene.add_light(light)
+    ctx.console.print(f"light {len(scene.lights)}: {light.kind} at ({number(light.position[0])}, "
+                      f"{number(light.position[1])})")
 
 
 def _parse_light_value(key: str, values: list[str]):
@@ -58,401 +270,275 @@ def _parse_light_value(key: str, values: list[str]):
             return hulls
     except ValueError:
         raise CommandError(f"light {key}: cannot read {' '.join(values)!r}") from None
-    fields = sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS | {"ignored_hulls"})
-    raise CommandError(f"lights have no property {key!r}; there are {', '.join(fields)}")
+    raise CommandError(f"lights have no property {key!r}; there are {', '.join(LIGHT_PROPERTIES)}")
 
 
-def register(console: Console, state: Lighting2DWorkspace, checks: ArgChecks) -> None:
-    reg = console.registry.scoped(state.name)
-    # Index checks read the light and hull counts, a light.set check the light's other properties (a
-    # texture for kind textured): after any of these a demo's checker cannot know them.
-    checks.reshaped_by("lighting2d", "light.add", "light.remove", "light.set", "hull.add", "hull.draw", "hull.remove",
-                       "hull.points", "hull.insert", "hull.delete", "lighting.clear", "lighting.sample",
-                       "scene.load", "undo", "redo")
-    history = state.history
+def changed_light(ctx: Ctx, index: int, key: str, value) -> tuple[Light, Light]:
+    """Light `index` and the light it would become with property `key` set to `value`, or a refusal."""
+    light = light_at(ctx, index)
+    if key == "texture" and value:
+        check_image(ctx, value)
+    if key in LIGHT_TUPLES | LIGHT_FLOATS:
+        storable(f"light {key}", *(value if isinstance(value, tuple) else (value,)))
+    return light, _built(replace, light, **{key: value})
 
-    def scene() -> Scene2D:
-        return state.scene
 
-    @checks.add("light.remove", "lighting2d")
-    def light_at(index: int) -> Light:
-        if not 0 <= index < len(scene().lights):
-            raise CommandError(f"no light {index}; there are {len(scene().lights)}")
-        return scene().lights[index]
+@COMMANDS.check("light.set", "lighting2d")
+def light_change(ctx: Ctx, index: int, key: str, values: list[str]) -> tuple[Light, Light]:
+    """Light `index` and the light it would become."""
+    light_at(ctx, index)
+    return changed_light(ctx, index, key, _parse_light_value(key, values))
 
-    @checks.add("hull.remove", "lighting2d")
-    def hull_at(index: int) -> Hull:
-        if not 0 <= index < len(scene().hulls):
-            raise CommandError(f"no hull {index}; there are {len(scene().hulls)}")
-        return scene().hulls[index]
 
-    edit = history.checkpoint  # undo's snapshot before an edit; one key for a run of edits (a drag): one step
+def _put_light(ctx: Ctx, index: int, key: str, light: Light, changed: Light) -> None:
+    """Light `index` becomes `changed` (its property `key` set), one undo step with the edits of `key` before."""
+    if changed == light:
+        return
+    ctx.state.history.checkpoint(setting_name("Light", key), ("light.set", index, key))
+    ctx.state.scene = ctx.state.scene.with_light(index, changed)
 
-    def refused(exc: Lighting2DError):
-        return CommandError(str(exc))
 
-    def make(model, **values):
-        """The model's constructor, its refusal as the command's message."""
-        try:
-            return model(**values)
-        except Lighting2DError as exc:
-            raise refused(exc) from None
+def _light_properties_from(ctx: Ctx, prefix: str) -> list[str]:
+    return [k for k in LIGHT_PROPERTIES if k.startswith(prefix)]
 
-    def append(items: list, item, limit: int, name: str) -> int:
-        if len(items) >= limit:
-            raise CommandError(f"a scene holds at most {limit} of them")
-        edit(name)
-        items.append(item)
-        scene().touch()
-        return len(items) - 1
 
-    reg.add_cvar(Cvar("r_shadowMethod", str, "exact", "2D soft shadows: " + ", ".join(METHODS), archive=True,
-                      choices=METHODS))
-    reg.add_cvar(Cvar("r_shadowSamples", int, 16, "jitter: hard shadows averaged", min=1, max=64, archive=True))
-    reg.add_cvar(Cvar("r_shadowBlur", float, 0.25, "blur: Gaussian sigma as a share of the light radius",
-                      min=0.01, max=4.0, archive=True))
-    reg.add_cvar(Cvar("r_lightmapScale", float, 1.0, "2D lightmap resolution relative to the screen",
-                      min=0.125, max=1.0, archive=True))
-    reg.add_cvar(Cvar("r_normalMaps", bool, True, "normal-mapped 2D lighting where lights have a height", archive=True))
-    reg.add_cvar(Cvar("r_flipY", bool, False, "2D world with y pointing down (screen coordinates)"))
-    reg.add_cvar(Cvar("r_debug2d", bool, False, "draw hulls, lights and their reach as wireframe", archive=True))
+@COMMANDS.command("light.set", "index:int property values...", "Set a light's property (light.list shows them)",
+                  completer=_light_properties_from, allow=SCRIPTS)
+def light_set(ctx: Ctx, index: int, key: str, values: list[str]) -> None:
+    _put_light(ctx, index, key, *light_change(ctx, index, key, values))
 
-    # ---- scene -------------------------------------------------------------------------------------
 
-    @reg.command("lighting.clear", "", "Empty the 2D scene (ambient, view and images stay)", allow=SCRIPTS)
-    def clear() -> None:
-        edit("Clear Scene")
-        scene().lights.clear()
-        scene().hulls.clear()
-        scene().touch()
+@COMMANDS.check("light.move", "lighting2d")
+def moved_light(ctx: Ctx, index: int, x: float, y: float) -> tuple[Light, Light]:
+    return changed_light(ctx, index, "position", (x, y))
 
-    @checks.add("lighting.sample")
-    def sample_path(name: str) -> Path:
-        path = SCENES / f"{name}.json"
-        if not path.is_file():
-            raise CommandError(f"no sample scene {name!r}; there are {', '.join(sample_names())}")
-        return path
 
-    @reg.command("lighting.sample", "name", "Load a sample 2D scene: " + ", ".join(sample_names()),
-                 completer=lambda p: [n for n in sample_names() if n.startswith(p)], allow=SCRIPTS)
-    def sample(name: str) -> None:
-        load(sample_path(name))
+@COMMANDS.command("light.move", "index:int x:float y:float", "Move a light's centre (a drag is one undo step)",
+                  quiet=True, allow=SCRIPTS)
+def light_move(ctx: Ctx, index: int, x: float, y: float) -> None:
+    _put_light(ctx, index, "position", *moved_light(ctx, index, x, y))
 
-    def load(path: str | Path) -> str:
-        try:
-            loaded = scene_file.load(path, may_read=lambda name: files.readable(console, name))
-        except (Lighting2DError, OSError) as exc:
-            raise CommandError(str(exc)) from None
-        for _where, name in loaded.images():
-            check_image(name)
-        edit("Load Scene")
-        state.replace(loaded)
-        console.print(f"loaded {count(len(loaded.lights), 'light')} and {count(len(loaded.hulls), 'hull')} "
-                      f"from {Path(path).name}")
-        return str(path)
 
-    def save(path) -> None:
-        cam = state.camera
-        scene().view = (cam.cx, cam.cy, cam.height)
-        scene_file.save(path, scene())
+@COMMANDS.command("light.remove", "index:int", "Remove a light", allow=SCRIPTS)
+def light_remove(ctx: Ctx, index: int) -> None:
+    light_at(ctx, index)
+    ctx.state.history.checkpoint("Remove Light")
+    ctx.state.scene = ctx.state.scene.remove_light(index)
 
-    state.files = SceneFiles(load, save, (".json",), scene_file.FORMAT, new=clear,
-                             replacing=("lighting.sample",))
-    state.replace(scene_file.load(DEFAULT_SCENE))  # the workspace opens on a sample scene, framed whole
-    state.camera.cx, state.camera.cy, state.camera.height = state.framed_view(START_ASPECT)
 
-    @checks.add("ambient")
-    def ambient_value(r: float, g: float, b: float) -> tuple[float, float, float]:
-        return make(Scene2D, ambient=(r, g, b)).ambient
+@COMMANDS.command("light.list", "", "List the lights and their properties", recorded=False, allow=SCRIPTS)
+def light_list(ctx: Ctx) -> None:
+    lights = ctx.state.scene.lights
+    for i, light in enumerate(lights):
+        props = ", ".join(f"{f.name} {fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
+        ctx.console.print(f"light {i}: {props}")
+    ctx.console.print(count(len(lights), "light"))
 
-    @reg.command("ambient", "r:float g:float b:float", "Set the 2D ambient colour (0..1 each)", allow=SCRIPTS)
-    def ambient(*rgb: float) -> None:
-        value = ambient_value(*rgb)
-        edit("Set Ambient")
-        scene().ambient = value
-        scene().touch()
 
-    def check_image(name: str) -> None:
-        """An image a scene may name; a script, demo or config may name only files it may read."""
-        if not name.startswith(BUILTIN):
-            files.readable(console, name)
-        _check_image(name)
+# ---- hulls -----------------------------------------------------------------------------------------
 
-    checks.add("lighting.background")(check_image)
-    checks.add("lighting.normalmap")(lambda name: name == "none" or check_image(name))
 
-    @reg.command("lighting.background", "image", "The 2D scene's diffuse map: builtin:NAME or a PNG path",
-                 allow=SCRIPTS)
-    def background(name: str) -> None:
-        check_image(name)
-        edit("Set Background")
-        scene().background = name
-        scene().touch()
+@COMMANDS.check("hull.remove", "lighting2d")
+def hull_at(ctx: Ctx, index: int) -> Hull:
+    hulls = ctx.state.scene.hulls
+    if not 0 <= index < len(hulls):
+        raise CommandError(f"no hull {index}; there are {len(hulls)}")
+    return hulls[index]
 
-    @reg.command("lighting.normalmap", "image", "Normals for lights with a height: builtin:NAME, a PNG path, or none",
-                 allow=SCRIPTS)
-    def normalmap(name: str) -> None:
-        if name != "none":
-            check_image(name)
-        edit("Set Normal Map")
-        scene().normal_map = None if name == "none" else name
-        scene().touch()
 
-    @checks.add("lighting.view")
-    def view_values(cx: float, cy: float, height: float) -> tuple[float, float, float]:
-        if not (math.isfinite(cx) and math.isfinite(cy) and math.isfinite(height)) or height <= 0:
-            raise CommandError(f"the view needs a finite centre and a height > 0, got {cx:g} {cy:g} {height:g}")
-        storable("the view", cx, cy, height)
-        return cx, cy, height
+def coords(values: list[float], at_least: int = 1) -> np.ndarray:
+    if len(values) % 2 or len(values) < 2 * at_least:
+        raise CommandError("give points as x1 y1 [x2 y2 ...]")
+    return np.array(values, dtype=np.float64).reshape(-1, 2)
 
-    @reg.command("lighting.view", "cx:float cy:float height:float", "Centre the 2D view and set the world height shown",
-                 quiet=True, allow=SCRIPTS)
-    def view(*values: float) -> None:
-        cam = state.camera
-        cam.cx, cam.cy, cam.height = view_values(*values)
 
-    # ---- lights ------------------------------------------------------------------------------------
+def _storable_points(points: np.ndarray) -> None:
+    """Refuse more points, or larger ones, than a scene file holds."""
+    if len(points) > scene_file.MAX_HULL_POINTS:
+        raise CommandError(f"a hull has at most {scene_file.MAX_HULL_POINTS} points, got {len(points)}")
+    storable("hull points", *points.ravel().tolist())
 
-    @checks.add("light.add")
-    def new_light(kind: str, x: float, y: float, texture: str | None = None) -> Light:
-        extra = {"origin": (0.0, 0.5), "scale": (300.0, 200.0)} if kind == "spot" else {}
-        if kind == "textured":
-            texture = texture or "builtin:window"
-            check_image(texture)
-            extra["radius"] = 5.0
-        storable("the light position", x, y)
-        return make(Light, kind=kind, position=(x, y), texture=texture, **extra)
 
-    @reg.command("light.add", "kind x:float y:float [texture]", "Add a light (point, spot or textured) at (x, y)",
-                 completer=lambda p: [k for k in LIGHT_KINDS if k.startswith(p)], allow=SCRIPTS)
-    def light_add(*args) -> None:
-        light = new_light(*args)
-        index = append(scene().lights, light, scene_file.MAX_LIGHTS, "Add Light")
-        console.print(f"light {index}: {light.kind} at ({number(light.position[0])}, {number(light.position[1])})")
+def report(ctx: Ctx, index: int) -> None:
+    hull = ctx.state.scene.hulls[index]
+    if not hull.valid:
+        ctx.console.print(f"hull {index} is invalid and ignored: {hull.invalid_reason}")
 
-    @checks.add("light.set", "lighting2d")
-    def light_change(index: int, key: str, values: list[str]) -> tuple[Light, Light]:
-        """Light `index` and the light it would become."""
-        light = light_at(index)
-        value = _parse_light_value(key, values)
-        if key == "texture" and value:
-            check_image(value)
-        if key in LIGHT_TUPLES | LIGHT_FLOATS:
-            storable(f"light {key}", *(value if isinstance(value, tuple) else (value,)))
-        try:
-            return light, dataclasses.replace(light, **{key: value})
-        except Lighting2DError as exc:
-            raise refused(exc) from None
 
-    @reg.command("light.set", "index:int property values...", "Set a light's property (light.list shows them)",
-                 completer=lambda p: [k for k in sorted(LIGHT_TUPLES | LIGHT_FLOATS | LIGHT_BOOLS | LIGHT_WORDS
-                                                         | {"ignored_hulls"}) if k.startswith(p)], allow=SCRIPTS)
-    def light_set(index: int, key: str, values: list[str]) -> None:
-        light, changed = light_change(index, key, values)
-        if changed == light:
-            return
-        edit(setting_name("Light", key), ("light.set", index, key))
-        scene().lights[index] = changed
-        scene().touch()
+@COMMANDS.check("hull.add")
+def new_hull(ctx: Ctx, values: list[float]) -> Hull:
+    """A hull through the points, refused if non-finite, or more or larger than a scene file holds."""
+    points = coords(values)
+    _storable_points(points)
+    return _built(Hull, points=points)
 
-    checks.add("light.move", "lighting2d")(lambda index, x, y: light_change(index, "position", [repr(x), repr(y)]))
 
-    @reg.command("light.move", "index:int x:float y:float", "Move a light's centre (a drag is one undo step)",
-                 quiet=True, allow=SCRIPTS)
-    def light_move(index: int, x: float, y: float) -> None:
-        light_set(index, "position", [repr(x), repr(y)])
+def add_hull(ctx: Ctx, hull: Hull) -> None:
+    scene = ctx.state.scene
+    _room(scene.hulls, scene_file.MAX_HULLS)
+    ctx.state.history.checkpoint("Add Hull")
+    ctx.state.scene = scene.add_hull(hull)
+    ctx.console.print(f"hull {len(scene.hulls)}: {count(len(hull.points), 'point')}")
+    report(ctx, len(scene.hulls))
 
-    @reg.command("light.remove", "index:int", "Remove a light", allow=SCRIPTS)
-    def light_remove(index: int) -> None:
-        light_at(index)
-        edit("Remove Light")
-        del scene().lights[index]
-        scene().touch()
 
-    @reg.command("light.list", "", "List the lights and their properties", recorded=False, allow=SCRIPTS)
-    def light_list() -> None:
-        for i, light in enumerate(scene().lights):
-            props = ", ".join(f"{f.name} {fmt(getattr(light, f.name))}" for f in dataclasses.fields(Light))
-            console.print(f"light {i}: {props}")
-        console.print(count(len(scene().lights), "light"))
+@COMMANDS.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)",
+                  allow=SCRIPTS)
+def hull_add(ctx: Ctx, values: list[float]) -> None:
+    add_hull(ctx, new_hull(ctx, values))
 
-    # ---- hulls -------------------------------------------------------------------------------------
 
-    def coords(values: list[float], at_least: int = 1) -> np.ndarray:
-        if len(values) % 2 or len(values) < 2 * at_least:
-            raise CommandError("give points as x1 y1 [x2 y2 ...]")
-        return np.array(values, dtype=np.float64).reshape(-1, 2)
+@COMMANDS.check("hull.draw")
+def drawn_hull(ctx: Ctx, values: list[float]) -> Hull:
+    hull = new_hull(ctx, values)
+    centre = centroid(hull.points)
+    # the same outline, turning and scaling about it
+    return replace(hull, position=centre, origin=centre, rotation=0.0, scale=(1.0, 1.0))
 
-    def checked_hull(points: np.ndarray) -> Hull:
-        """A hull through `points`, refused if non-finite, or more or larger than a scene file holds."""
-        if len(points) > scene_file.MAX_HULL_POINTS:
-            raise CommandError(f"a hull has at most {scene_file.MAX_HULL_POINTS} points, got {len(points)}")
-        storable("hull points", *points.ravel().tolist())
-        return make(Hull, points=points)
 
-    def report(index: int) -> None:
-        hull = scene().hulls[index]
-        if not hull.valid:
-            console.print(f"hull {index} is invalid and ignored: {hull.invalid_reason}")
+@COMMANDS.command("hull.draw", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units) "
+                  "whose origin and position are its centroid, where its handles sit (the draw tool's hulls)",
+                  allow=SCRIPTS)
+def hull_draw(ctx: Ctx, values: list[float]) -> None:
+    add_hull(ctx, drawn_hull(ctx, values))
 
-    @checks.add("hull.add")
-    def new_hull(values: list[float]) -> Hull:
-        return checked_hull(coords(values))
 
-    def add_hull(hull: Hull) -> None:
-        index = append(scene().hulls, hull, scene_file.MAX_HULLS, "Add Hull")
-        console.print(f"hull {index}: {count(len(hull.points), 'point')}")
-        report(index)
+def changed_hull(ctx: Ctx, index: int, key: str, value) -> tuple[Hull, Hull]:
+    """Hull `index` and the hull it would become with property `key` set to `value`, or a refusal."""
+    hull = hull_at(ctx, index)
+    if key != "enabled":
+        storable(f"hull {key}", *(value if isinstance(value, tuple) else (value,)))
+    return hull, _built(replace, hull, **{key: value})
 
-    @reg.command("hull.add", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units)",
-                 allow=SCRIPTS)
-    def hull_add(values: list[float]) -> None:
-        add_hull(new_hull(values))
 
-    @checks.add("hull.draw")
-    def drawn_hull(values: list[float]) -> Hull:
-        hull = new_hull(values)
-        centre = centroid(hull.points)
-        hull.set_transform(centre, centre, 0.0, (1.0, 1.0))  # the same outline, turning and scaling about it
-        return hull
+@COMMANDS.check("hull.set", "lighting2d")
+def hull_change(ctx: Ctx, index: int, key: str, values: list[str]) -> tuple[Hull, Hull]:
+    """Hull `index` and the hull it would become."""
+    hull_at(ctx, index)
+    if key not in HULL_KEYS:
+        raise CommandError(f"hulls have no property {key!r}; there are {', '.join(HULL_KEYS)}")
+    if key == "enabled":
+        return changed_hull(ctx, index, key, values == ["1"] or values == ["true"] or values == ["on"])
+    try:
+        numbers = [float(v) for v in values]
+    except ValueError:
+        raise CommandError(f"hull {key}: cannot read {' '.join(values)!r}") from None
+    if len(numbers) != (1 if key == "rotation" else 2):
+        raise CommandError(f"hull {key} takes {1 if key == 'rotation' else 2} numbers")
+    return changed_hull(ctx, index, key, numbers[0] if key == "rotation" else tuple(numbers))
 
-    @reg.command("hull.draw", "coords:float...", "Add a hull through the points x1 y1 x2 y2 ... (world units) "
-                 "whose origin and position are its centroid, where its handles sit (the draw tool's hulls)",
-                 allow=SCRIPTS)
-    def hull_draw(values: list[float]) -> None:
-        add_hull(drawn_hull(values))
 
-    def transform(hull: Hull, **change) -> dict:
-        return {**{k: getattr(hull, k) for k in ("position", "origin", "rotation", "scale")}, **change}
+def _put_hull(ctx: Ctx, index: int, key: str, hull: Hull, changed: Hull) -> None:
+    """Hull `index` becomes `changed` (its property `key` set), one undo step with the edits of `key` before."""
+    if getattr(changed, key) == getattr(hull, key):
+        return
+    ctx.state.history.checkpoint(setting_name("Hull", key), ("hull.set", index, key))
+    ctx.state.scene = ctx.state.scene.with_hull(index, changed)
 
-    @checks.add("hull.set", "lighting2d")
-    def hull_value(index: int, key: str, values: list[str]) -> tuple[Hull, object]:
-        """Hull `index` and the value its property `key` would take."""
-        hull = hull_at(index)
-        if key not in HULL_KEYS:
-            raise CommandError(f"hulls have no property {key!r}; there are {', '.join(HULL_KEYS)}")
-        if key == "enabled":
-            return hull, values == ["1"] or values == ["true"] or values == ["on"]
-        try:
-            numbers = [float(v) for v in values]
-        except ValueError:
-            raise CommandError(f"hull {key}: cannot read {' '.join(values)!r}") from None
-        if len(numbers) != (1 if key == "rotation" else 2):
-            raise CommandError(f"hull {key} takes {1 if key == 'rotation' else 2} numbers")
-        storable(f"hull {key}", *numbers)
-        value = numbers[0] if key == "rotation" else tuple(numbers)
-        make(Hull, points=hull.points, **transform(hull, **{key: value}))  # the model's refusal, nothing changed
-        return hull, value
 
-    @reg.command("hull.set", "index:int property values...",
-                 "Set a hull's position, origin, rotation, scale or enabled",
-                 completer=lambda p: [k for k in HULL_KEYS if k.startswith(p)], allow=SCRIPTS)
-    def hull_set(index: int, key: str, values: list[str]) -> None:
-        hull, value = hull_value(index, key, values)
-        if getattr(hull, key) == value:
-            return
-        edit(setting_name("Hull", key), ("hull.set", index, key))
-        if key == "enabled":
-            hull.enabled = value
-        else:
-            hull.set_transform(**transform(hull, **{key: value}))
-        scene().touch()
+def _hull_keys_from(ctx: Ctx, prefix: str) -> list[str]:
+    return [k for k in HULL_KEYS if k.startswith(prefix)]
 
-    checks.add("hull.move", "lighting2d")(lambda index, x, y: hull_value(index, "position", [repr(x), repr(y)]))
 
-    @reg.command("hull.move", "index:int x:float y:float", "Move a hull's position (a drag is one undo step)",
-                 quiet=True, allow=SCRIPTS)
-    def hull_move(index: int, x: float, y: float) -> None:
-        hull_set(index, "position", [repr(x), repr(y)])
+@COMMANDS.command("hull.set", "index:int property values...",
+                  "Set a hull's position, origin, rotation, scale or enabled", completer=_hull_keys_from,
+                  allow=SCRIPTS)
+def hull_set(ctx: Ctx, index: int, key: str, values: list[str]) -> None:
+    _put_hull(ctx, index, key, *hull_change(ctx, index, key, values))
 
-    def valid_points(index: int, points: np.ndarray) -> np.ndarray:
-        hull_at(index)
-        checked_hull(points)  # refuse before anything changes
-        return points
 
-    def set_points(index: int, points: np.ndarray, name: str, key=None) -> None:
-        edit(name, key)
-        hull_at(index).set_points(points)
-        scene().touch()
-        report(index)
+@COMMANDS.check("hull.move", "lighting2d")
+def moved_hull(ctx: Ctx, index: int, x: float, y: float) -> tuple[Hull, Hull]:
+    return changed_hull(ctx, index, "position", (x, y))
 
-    @checks.add("hull.points", "lighting2d")
-    def replaced_points(index: int, values: list[float]) -> np.ndarray:
-        return valid_points(index, coords(values))
 
-    @reg.command("hull.points", "index:int coords:float...", "Replace a hull's local points", allow=SCRIPTS)
-    def hull_points(index: int, values: list[float]) -> None:
-        set_points(index, replaced_points(index, values), "Set Hull Points")
+@COMMANDS.command("hull.move", "index:int x:float y:float", "Move a hull's position (a drag is one undo step)",
+                  quiet=True, allow=SCRIPTS)
+def hull_move(ctx: Ctx, index: int, x: float, y: float) -> None:
+    _put_hull(ctx, index, "position", *moved_hull(ctx, index, x, y))
 
-    def vertex_at(index: int, vertex: int) -> np.ndarray:
-        points = hull_at(index).points
-        if not 0 <= vertex < len(points):
-            raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
-        return points
 
-    @checks.add("hull.vertex", "lighting2d")
-    def moved_vertex(index: int, vertex: int, x: float, y: float) -> np.ndarray:
-        points = vertex_at(index, vertex).copy()
-        points[vertex] = (x, y)
-        return valid_points(index, points)
+def reshaped_hull(ctx: Ctx, index: int, points: np.ndarray) -> Hull:
+    """Hull `index` through `points` instead, refused before anything changes."""
+    hull = hull_at(ctx, index)
+    _storable_points(points)
+    return _built(replace, hull, points=points)
 
-    @reg.command("hull.vertex", "index:int vertex:int x:float y:float", "Move one vertex (local coordinates)",
-                 quiet=True, allow=SCRIPTS)
-    def hull_vertex(index: int, vertex: int, x: float, y: float) -> None:
-        set_points(index, moved_vertex(index, vertex, x, y), "Move Vertex", ("hull.vertex", index, vertex))
 
-    @checks.add("hull.insert", "lighting2d")
-    def inserted_vertex(index: int, vertex: int, x: float, y: float) -> np.ndarray:
-        points = hull_at(index).points
-        if not 0 <= vertex <= len(points):
-            raise CommandError(f"hull {index}: insert position must be 0..{len(points)}, got {vertex}")
-        return valid_points(index, np.insert(points, vertex, (x, y), axis=0))
+def _put_points(ctx: Ctx, index: int, hull: Hull, name: str, key=None) -> None:
+    ctx.state.history.checkpoint(name, key)
+    ctx.state.scene = ctx.state.scene.with_hull(index, hull)
+    report(ctx, index)
 
-    @reg.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)",
-                 allow=SCRIPTS)
-    def hull_insert(*args) -> None:
-        set_points(args[0], inserted_vertex(*args), "Insert Vertex")
 
-    @checks.add("hull.delete", "lighting2d")
-    def deleted_vertex(index: int, vertex: int) -> np.ndarray:
-        return valid_points(index, np.delete(vertex_at(index, vertex), vertex, axis=0))
+@COMMANDS.check("hull.points", "lighting2d")
+def replaced_points(ctx: Ctx, index: int, values: list[float]) -> Hull:
+    return reshaped_hull(ctx, index, coords(values))
 
-    @reg.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull", allow=SCRIPTS)
-    def hull_delete(index: int, vertex: int) -> None:
-        set_points(index, deleted_vertex(index, vertex), "Delete Vertex")
 
-    @reg.command("hull.remove", "index:int", "Remove a hull", allow=SCRIPTS)
-    def hull_remove(index: int) -> None:
-        hull_at(index)
-        edit("Remove Hull")
-        del scene().hulls[index]
-        for light in scene().lights:  # ignored-hull indices follow the hulls that stay
-            light.ignored_hulls = tuple(i - (i > index) for i in light.ignored_hulls if i != index)
-        scene().touch()
+@COMMANDS.command("hull.points", "index:int coords:float...", "Replace a hull's local points", allow=SCRIPTS)
+def hull_points(ctx: Ctx, index: int, values: list[float]) -> None:
+    _put_points(ctx, index, replaced_points(ctx, index, values), "Set Hull Points")
 
-    @reg.command("hull.list", "", "List the hulls", recorded=False, allow=SCRIPTS)
-    def hull_list() -> None:
-        for i, hull in enumerate(scene().hulls):
-            state = "valid" if hull.valid else f"INVALID ({hull.invalid_reason})"
-            console.print(f"hull {i}: {count(len(hull.points), 'point')} at ({number(hull.position[0])}, "
+
+def vertex_at(ctx: Ctx, index: int, vertex: int) -> np.ndarray:
+    """Hull `index`'s points, where it has a vertex `vertex`."""
+    points = hull_at(ctx, index).points
+    if not 0 <= vertex < len(points):
+        raise CommandError(f"hull {index} has no vertex {vertex}; it has {len(points)}")
+    return points
+
+
+@COMMANDS.check("hull.vertex", "lighting2d")
+def moved_vertex(ctx: Ctx, index: int, vertex: int, x: float, y: float) -> Hull:
+    points = vertex_at(ctx, index, vertex).copy()
+    points[vertex] = (x, y)
+    return reshaped_hull(ctx, index, points)
+
+
+@COMMANDS.command("hull.vertex", "index:int vertex:int x:float y:float", "Move one vertex (local coordinates)",
+                  quiet=True, allow=SCRIPTS)
+def hull_vertex(ctx: Ctx, index: int, vertex: int, x: float, y: float) -> None:
+    _put_points(ctx, index, moved_vertex(ctx, index, vertex, x, y), "Move Vertex", ("hull.vertex", index, vertex))
+
+
+@COMMANDS.check("hull.insert", "lighting2d")
+def inserted_vertex(ctx: Ctx, index: int, vertex: int, x: float, y: float) -> Hull:
+    points = hull_at(ctx, index).points
+    if not 0 <= vertex <= len(points):
+        raise CommandError(f"hull {index}: insert position must be 0..{len(points)}, got {vertex}")
+    return reshaped_hull(ctx, index, np.insert(points, vertex, (x, y), axis=0))
+
+
+@COMMANDS.command("hull.insert", "index:int vertex:int x:float y:float", "Insert a vertex before `vertex` (local)",
+                  allow=SCRIPTS)
+def hull_insert(ctx: Ctx, index: int, vertex: int, x: float, y: float) -> None:
+    _put_points(ctx, index, inserted_vertex(ctx, index, vertex, x, y), "Insert Vertex")
+
+
+@COMMANDS.check("hull.delete", "lighting2d")
+def deleted_vertex(ctx: Ctx, index: int, vertex: int) -> Hull:
+    return reshaped_hull(ctx, index, np.delete(vertex_at(ctx, index, vertex), vertex, axis=0))
+
+
+@COMMANDS.command("hull.delete", "index:int vertex:int", "Delete one vertex of a hull", allow=SCRIPTS)
+def hull_delete(ctx: Ctx, index: int, vertex: int) -> None:
+    _put_points(ctx, index, deleted_vertex(ctx, index, vertex), "Delete Vertex")
+
+
+@COMMANDS.command("hull.remove", "index:int", "Remove a hull", allow=SCRIPTS)
+def hull_remove(ctx: Ctx, index: int) -> None:
+    hull_at(ctx, index)
+    ctx.state.history.checkpoint("Remove Hull")
+    ctx.state.scene = ctx.state.scene.remove_hull(index)  # the lights' ignored hulls follow the hulls that stay
+
+
+@COMMANDS.command("hull.list", "", "List the hulls", recorded=False, allow=SCRIPTS)
+def hull_list(ctx: Ctx) -> None:
+    hulls = ctx.state.scene.hulls
+    for i, hull in enumerate(hulls):
+        state = "valid" if hull.valid else f"INVALID ({hull.invalid_reason})"
+        ctx.console.print(f"hull {i}: {count(len(hull.points), 'point')} at ({number(hull.position[0])}, "
                           f"{number(hull.position[1])}), rotation {number(hull.rotation)}, scale {fmt(hull.scale)}, "
                           f"{'enabled' if hull.enabled else 'disabled'}, {state}")
-        console.print(count(len(scene().hulls), "hull"))
-
-
-def _check_image(name: str) -> None:
-    if len(name) > scene_file.MAX_IMAGE_NAME:
-        raise CommandError(f"an image name has at most {scene_file.MAX_IMAGE_NAME} characters")
-    try:
-        image(name)
-    except Lighting2DError as exc:
-        raise CommandError(str(exc)) from None
-
-
-def render_settings(console: Console, state: Lighting2DWorkspace) -> Shading2D:
-    """The 2D renderer's settings from the cvars."""
-    cvars = console.registry.cvars
-    return Shading2D(method=cvars["r_shadowMethod"].value, samples=cvars["r_shadowSamples"].value,
-                     blur=cvars["r_shadowBlur"].value, lightmap_scale=cvars["r_lightmapScale"].value,
-                     flip_y=cvars["r_flipY"].value, normal_maps=cvars["r_normalMaps"].value,
-                     debug=cvars["r_debug2d"].value)
+    ctx.console.print(count(len(hulls), "hull"))

@@ -134,8 +134,8 @@ class Lighting2DOverlay:
 
     def draw(self, fbo, scene: Scene2D, index: SceneIndex, camera: Camera2D, flip_y: bool, debug: bool,
              selection=None, pending=None, cursor=None) -> None:
-        """`index` is the scene's index for its current version (the renderer's): a new one means the scene
-        changed, so it keys the layers with the view."""
+        """`index` is the scene's index (the renderer's): a new one means a new scene (an edit makes one), so it
+        keys the layers with the view."""
         unit = camera.world_per_pixel(fbo.size[1])
         view = camera.view_rect(*fbo.size)  # the view is symmetric about cy: flip_y too
         frame = (index, camera.key(), tuple(fbo.size), flip_y)

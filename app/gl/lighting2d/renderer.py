@@ -143,8 +143,8 @@ class Lighting2DRenderer:
         return lightmap
 
     def index(self, scene: Scene2D, shared: SceneIndex | None = None) -> SceneIndex:
-        """The scene's index for its current version: `shared`, the one the host holds (the editor's workspace,
-        whose tool's clicks ask it too), else the renderer's own, built again only after the scene changed.
+        """The scene's index: `shared`, the one the host holds (the editor's workspace, whose tool's clicks ask
+        it too), else the renderer's own, built again only for another scene (an edit makes one).
         The lights' geometry is built again with each new index."""
         index = shared if shared is not None else self._own.get(scene)
         if index is not self._index:

@@ -1,7 +1,7 @@
-"""What the 2D renderer asks of a scene, answered once per scene version: the hulls that can cast
-into a light's reach (through a grid index), the outlines the editor's overlay draws in the view and
-the tool's clicks test, each light's bounds, and whether its centre is inside a hull (then Penumbra
-does not draw it)."""
+"""What the 2D renderer asks of a scene, answered once per scene (a scene is a value: an edit makes another
+one): the hulls that can cast into a light's reach (through a grid index), the outlines the editor's overlay
+draws in the view and the tool's clicks test, each light's bounds, and whether its centre is inside a hull
+(then Penumbra does not draw it)."""
 from __future__ import annotations
 
 import math
@@ -29,7 +29,6 @@ def light_bounds(light: Light) -> tuple[float, float, float, float]:
 
 class SceneIndex:
     def __init__(self, scene: Scene2D) -> None:
-        self.version = scene.version
         self.scene = scene
         # every hull with an outline (invalid and disabled ones too: the overlay draws them); only the
         # enabled valid ones cast shadows
@@ -39,8 +38,8 @@ class SceneIndex:
         self.grid = GridIndex(boxes)
 
     def is_for(self, scene: Scene2D) -> bool:
-        """Whether this index still answers for `scene` (the same scene, unchanged since it was built)."""
-        return self.scene is scene and self.version == scene.version
+        """Whether this index answers for `scene`: the very scene it was built for (an edited one is another)."""
+        return self.scene is scene
 
     def outlines_in(self, x0: float, y0: float, x1: float, y1: float) -> list[int]:
         """Indices (into scene.hulls) of hulls with an outline whose bounds meet the rectangle."""

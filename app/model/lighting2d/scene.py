@@ -1,5 +1,6 @@
 """2D lights and hulls (seed 000, Penumbra): every property with its constraint, validity, winding,
-local -> world transforms with dirty flags. numpy only.
+local -> world transforms. numpy only. Lights, hulls and scenes are values: an edit makes a new one (undo keeps
+the old ones as they are), and what a hull's points imply (validity, convex pieces) is worked out once.
 
 Conventions: world units, y up; angles in radians; colours are (r, g, b) floats 0..1 (alpha ignored,
 as in Penumbra)."""
@@ -7,7 +8,8 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from functools import cached_property, lru_cache
 
 import numpy as np
 import shapely
@@ -150,10 +152,40 @@ def _join(first: list[int], second: list[int], a: int, b: int) -> list[int]:
     return first[i:] + first[:i] + (second[j:] + second[:j])[1:-1]
 
 
-@dataclass(eq=False)
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.flags.writeable = False
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class Outline:
+    """A hull's local points, counter-clockwise, with their validity and (once asked) their convex pieces."""
+    points: np.ndarray
+    invalid_reason: str | None
+
+    @cached_property
+    def pieces(self) -> list[np.ndarray]:
+        return [_read_only(p) for p in convex_pieces(self.points)] if self.invalid_reason is None else []
+
+
+@lru_cache(maxsize=256)
+def outline_of(data: bytes) -> Outline:
+    """The outline of the points (float64 x, y pairs as bytes), kept for the hulls that share them: a hull moved,
+    turned or disabled is a new value, but its points are validated and decomposed once."""
+    points = np.frombuffer(data, np.float64).reshape(-1, 2)
+    reason = validity(points)
+    if reason is None and signed_area(points) < 0:
+        # Penumbra detects the winding and normalises to counter-clockwise: the outline of those points, which
+        # a hull made from this one's (moved, say) looks up
+        return outline_of(np.ascontiguousarray(points[::-1]).tobytes())
+    return Outline(_read_only(points.copy()), reason)
+
+
+@dataclass(frozen=True, eq=False)
 class Hull:
     """A polygon light cannot pass. Points are local; the world outline follows position, origin,
-    rotation and scale. Points may come clockwise: they are stored counter-clockwise."""
+    rotation and scale. Points may come clockwise: they are stored counter-clockwise. A value: an edit
+    (`dataclasses.replace`) makes a new hull, whose world outline is worked out again when asked."""
 
     points: np.ndarray
     position: tuple[float, float] = (0.0, 0.0)
@@ -161,65 +193,59 @@ class Hull:
     rotation: float = 0.0
     scale: tuple[float, float] = (1.0, 1.0)
     enabled: bool = True
-    invalid_reason: str | None = field(init=False, default=None)
-    _world: np.ndarray | None = field(init=False, default=None, repr=False)
-    _pieces: list[np.ndarray] | None = field(init=False, default=None, repr=False)
-    _world_pieces: list[np.ndarray] | None = field(init=False, default=None, repr=False)
-    _bounds: tuple[float, float, float, float] | None = field(init=False, default=None, repr=False)
+    outline: Outline = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        self.set_points(self.points)
-        self.set_transform(self.position, self.origin, self.rotation, self.scale)
+        pts = np.asarray(self.points, dtype=np.float64).reshape(-1, 2)
+        _finite("hull points", *pts.ravel())
+        _finite("hull position", *self.position)
+        _finite("hull origin", *self.origin)
+        _finite("hull rotation", self.rotation)
+        _non_negative("hull scale", *self.scale)
+        shape = outline_of(np.ascontiguousarray(pts).tobytes())
+        for name, value in (("outline", shape), ("points", shape.points),
+                            ("position", tuple(map(float, self.position))), ("origin", tuple(map(float, self.origin))),
+                            ("rotation", float(self.rotation)), ("scale", tuple(map(float, self.scale)))):
+            object.__setattr__(self, name, value)
+
+    @property
+    def invalid_reason(self) -> str | None:
+        """None for a valid hull, else why it is not (it is kept, marked, and casts no shadow)."""
+        return self.outline.invalid_reason
 
     @property
     def valid(self) -> bool:
         return self.invalid_reason is None
-
-    def set_points(self, points) -> None:
-        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        _finite("hull points", *pts.ravel())
-        self.invalid_reason = validity(pts)
-        if self.invalid_reason is None and signed_area(pts) < 0:
-            pts = pts[::-1].copy()  # Penumbra detects the winding and normalises to counter-clockwise
-        self.points = pts
-        self._world = self._pieces = self._world_pieces = self._bounds = None  # dirty
-
-    def set_transform(self, position, origin, rotation: float, scale) -> None:
-        _finite("hull position", *position)
-        _finite("hull origin", *origin)
-        _finite("hull rotation", rotation)
-        _non_negative("hull scale", *scale)
-        self.position, self.origin = tuple(map(float, position)), tuple(map(float, origin))
-        self.rotation, self.scale = float(rotation), tuple(map(float, scale))
-        self._world = self._world_pieces = self._bounds = None
 
     def to_world(self, local: np.ndarray) -> np.ndarray:
         c, s = math.cos(self.rotation), math.sin(self.rotation)
         return ((local - self.origin) * self.scale) @ np.array([[c, s], [-s, c]]) + self.position
 
     def world(self) -> np.ndarray:
-        """World points (n, 2), rebuilt only after a change."""
-        if self._world is None:
-            self._world = self.to_world(self.points)
+        """World points (n, 2), worked out once per hull."""
         return self._world
 
+    @cached_property
+    def _world(self) -> np.ndarray:
+        return _read_only(self.to_world(self.points))
+
+    @cached_property
+    def _world_pieces(self) -> list[np.ndarray]:
+        return [_read_only(self.to_world(p)) for p in self.outline.pieces]
+
     def world_pieces(self) -> list[np.ndarray]:
-        """Convex counter-clockwise world pieces covering the hull (one when it is convex); the
-        decomposition is redone only when the points change, the transform only when it moves."""
-        if not self.valid:
-            return []
-        if self._pieces is None:
-            self._pieces = convex_pieces(self.points)
-        if self._world_pieces is None:
-            self._world_pieces = [self.to_world(p) for p in self._pieces]
+        """Convex counter-clockwise world pieces covering the hull (one when it is convex; none when it is
+        invalid); the decomposition is the outline's, so a moved hull only transforms it again."""
         return self._world_pieces
+
+    @cached_property
+    def _bounds(self) -> tuple[float, float, float, float]:
+        pts = self.world()
+        (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
+        return float(x0), float(y0), float(x1), float(y1)
 
     def bounds(self) -> tuple[float, float, float, float]:
         """The world outline's box, kept like the outline (the scene index asks every hull's after an edit)."""
-        if self._bounds is None:
-            pts = self.world()
-            (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
-            self._bounds = float(x0), float(y0), float(x1), float(y1)
         return self._bounds
 
     def contains(self, x: float, y: float) -> bool:
@@ -232,7 +258,7 @@ class Hull:
         return bool(np.count_nonzero(crosses) % 2)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Light:
     kind: str = "point"
     position: tuple[float, float] = (0.0, 0.0)
@@ -263,15 +289,18 @@ class Light:
         _non_negative("light radius", self.radius)
         _non_negative("cone decay", self.cone_decay)
         _non_negative("light height", self.height)
-        self.color = _colour("light color", self.color)
+        color = _colour("light color", self.color)
         if self.kind == "textured" and not self.texture:
             raise Lighting2DError("a textured light needs a texture")
-        self.position, self.origin = tuple(map(float, self.position)), tuple(map(float, self.origin))
-        self.scale = tuple(map(float, self.scale))
-        for name in ("rotation", "intensity", "radius", "cone_decay", "height"):  # 18 and 18.0 are one value
-            setattr(self, name, float(getattr(self, name)))
-        self.enabled, self.casts_shadows = bool(self.enabled), bool(self.casts_shadows)
-        self.ignored_hulls = tuple(int(i) for i in self.ignored_hulls)
+        normal = {"color": color, "position": tuple(map(float, self.position)),
+                  "origin": tuple(map(float, self.origin)), "scale": tuple(map(float, self.scale)),
+                  # 18 and 18.0 are one value
+                  **{name: float(getattr(self, name)) for name in ("rotation", "intensity", "radius", "cone_decay",
+                                                                   "height")},
+                  "enabled": bool(self.enabled), "casts_shadows": bool(self.casts_shadows),
+                  "ignored_hulls": tuple(int(i) for i in self.ignored_hulls)}
+        for name, value in normal.items():
+            object.__setattr__(self, name, value)
 
     def cone_half_angle(self) -> float:
         """Penumbra's spot cone: alpha = pi - 2 atan(2x / y) from the quad's sides; half of it."""
@@ -279,24 +308,37 @@ class Light:
         return 0.5 * (math.pi - 2.0 * math.atan2(2.0 * x, y))
 
 
-@dataclass
+def _index(index: int, count: int, what: str) -> int:
+    if not 0 <= index < count:
+        raise Lighting2DError(f"no {what} {index}; there are {count}")
+    return index
+
+
+@dataclass(frozen=True, eq=False)
 class Scene2D:
+    """The lights and hulls and what they are drawn over. A value: every edit (`with_*`, `add_*`, `remove_*`,
+    `dataclasses.replace`) returns a new scene, so a scene's identity is its version (the index, the renderer
+    and the document digest key their caches on it) and undo keeps the scenes themselves."""
     ambient: tuple[float, float, float] = (0.15, 0.15, 0.18)
-    lights: list[Light] = field(default_factory=list)
-    hulls: list[Hull] = field(default_factory=list)
+    lights: tuple[Light, ...] = ()
+    hulls: tuple[Hull, ...] = ()
     view: tuple[float, float, float] = (0.0, 0.0, 500.0)   # centre x, y and world height shown
     background: str = "builtin:tiles"   # the diffuse map the lightmap multiplies: a builtin or a PNG
     normal_map: str | None = None       # optional normals for height-lit lights: a builtin or a PNG
-    version: int = 0
 
     def __post_init__(self) -> None:
-        self.ambient = _colour("ambient color", self.ambient)
+        ambient = _colour("ambient color", self.ambient)
         _finite("view", *self.view)
         if len(self.view) != 3 or self.view[2] <= 0:
             raise Lighting2DError(f"view must be (centre x, centre y, height > 0), got {self.view!r}")
-        self.view = tuple(float(v) for v in self.view)
         if not isinstance(self.background, str) or not self.background:
             raise Lighting2DError("background must be a builtin name or an image path")
+        lights, hulls = tuple(self.lights), tuple(self.hulls)
+        if not all(isinstance(light, Light) for light in lights) or not all(isinstance(h, Hull) for h in hulls):
+            raise Lighting2DError("a 2D scene holds Light lights and Hull hulls")
+        for name, value in (("ambient", ambient), ("lights", lights),
+                            ("hulls", hulls), ("view", tuple(float(v) for v in self.view))):
+            object.__setattr__(self, name, value)
 
     def images(self) -> list[tuple[str, str]]:
         """(field, name) of every image the scene names: the background, the normal map and the lights' textures."""
@@ -304,8 +346,35 @@ class Scene2D:
                  *((f"lights[{i}].texture", light.texture) for i, light in enumerate(self.lights))]
         return [(where, name) for where, name in named if name]
 
-    def touch(self) -> None:
-        self.version += 1
+    def with_light(self, index: int, light: Light) -> Scene2D:
+        i = _index(index, len(self.lights), "light")
+        return replace(self, lights=self.lights[:i] + (light,) + self.lights[i + 1:])
+
+    def with_hull(self, index: int, hull: Hull) -> Scene2D:
+        i = _index(index, len(self.hulls), "hull")
+        return replace(self, hulls=self.hulls[:i] + (hull,) + self.hulls[i + 1:])
+
+    def add_light(self, light: Light) -> Scene2D:
+        return replace(self, lights=self.lights + (light,))
+
+    def add_hull(self, hull: Hull) -> Scene2D:
+        return replace(self, hulls=self.hulls + (hull,))
+
+    def remove_light(self, index: int) -> Scene2D:
+        i = _index(index, len(self.lights), "light")
+        return replace(self, lights=self.lights[:i] + self.lights[i + 1:])
+
+    def remove_hull(self, index: int) -> Scene2D:
+        """The scene without hull `index`; the lights' ignored hulls follow the hulls that stay."""
+        i = _index(index, len(self.hulls), "hull")
+        lights = tuple(light if not light.ignored_hulls else
+                       replace(light, ignored_hulls=tuple(k - (k > i) for k in light.ignored_hulls if k != i))
+                       for light in self.lights)
+        return replace(self, lights=lights, hulls=self.hulls[:i] + self.hulls[i + 1:])
+
+    def cleared(self) -> Scene2D:
+        """No lights, no hulls; the ambient, view and images stay."""
+        return replace(self, lights=(), hulls=())
 
     def digest(self) -> str:
         h = hashlib.sha256(repr((self.ambient, self.background, self.normal_map)).encode())

@@ -1,7 +1,6 @@
 """The 2D lighting workspace's state: the scene, its view, what the editor draws over it, and undo."""
 from __future__ import annotations
 
-import copy
 import dataclasses
 from typing import Callable
 
@@ -14,7 +13,6 @@ from app.model.lighting2d.scene import Light, Scene2D
 from app.model.lighting2d.index import SceneIndex, SceneIndexes
 from app.model.workspace import Workspace, short_hash
 
-HISTORY_FIELDS = ("ambient", "lights", "hulls", "background", "normal_map")  # what an edit may change
 HULL_KEYS = ("position", "origin", "rotation", "scale", "enabled")
 
 
@@ -46,34 +44,29 @@ class Lighting2DWorkspace(Workspace):
         self.selection: tuple[str, int] | None = None
         self.pending: list[tuple[float, float]] = []  # the points of a hull being drawn
         self.pending_cursor: tuple[float, float] | None = None  # where the next point would go (the rubber band)
-        self.history = SnapshotHistory(self._snapshot, self._restore)
+        # The scene is a frozen value: a snapshot is the scene itself, and restoring one puts it back.
+        self.history = SnapshotHistory(lambda: self.scene, self._restore)
         self.indexes = SceneIndexes()
 
     def index(self) -> SceneIndex:
-        """The scene's index for its current version: the renderer's frame and the tool's clicks ask it alike."""
+        """The current scene's index: the renderer's frame and the tool's clicks ask it alike."""
         return self.indexes.get(self.scene)
 
-    def _snapshot(self) -> dict:
-        return copy.deepcopy({name: getattr(self.scene, name) for name in HISTORY_FIELDS})
-
-    def _restore(self, state: dict) -> None:
-        for name, value in state.items():
-            setattr(self.scene, name, value)
-        self.scene.touch()
+    def _restore(self, scene: Scene2D) -> None:
+        self.scene = scene
 
     def replace(self, scene: Scene2D) -> None:
-        """Put a loaded scene in place (its view becomes the camera's); the version keeps growing and the
-        history stays, so loading can be undone."""
-        scene.version = self.scene.version + 1
+        """Put a loaded scene in place (its view becomes the camera's); the history stays, so loading can be
+        undone."""
         self.scene = scene
         cam = self.camera
         cam.cx, cam.cy, cam.height = scene.view
 
     def version(self) -> tuple:
-        return self.scene.version, self.camera.key()
+        return self.scene, self.camera.key()  # scenes compare by identity: an edit makes another
 
-    def document_model(self) -> tuple[object, int]:
-        return self.scene, self.scene.version
+    def document_model(self) -> tuple[object, None]:
+        return self.scene, None  # a new scene after each edit: the scene is its own version
 
     def digest(self) -> dict[str, str]:
         return {"lighting2d": self.scene.digest(), "lighting2d.camera": short_hash(*self.camera.key())}
