@@ -58,12 +58,16 @@ def test_w_and_s_change_the_level(window, qtbot):
 
 
 def test_click_adds_drag_moves_right_click_removes(window, qtbot):
-    vp, scene = window.viewport, window.editor.workspaces["snowflake"].scene
-    n = len(scene.flakes)
+    vp = window.viewport
+
+    def flakes():  # each edit puts a new frozen scene in place
+        return window.editor.workspaces["snowflake"].scene.flakes
+
+    n = len(flakes())
     empty = centre_pixel_of_world(window, -1.1, 0.0)
     qtbot.mouseClick(vp, Qt.MouseButton.LeftButton, pos=empty)
-    assert len(scene.flakes) == n + 1
-    added = scene.flakes[-1]
+    assert len(flakes()) == n + 1
+    added = flakes()[-1]
     cam = window.editor.workspaces["snowflake"].camera
     pixel = cam.world_per_pixel(vp.height())
     assert abs(added.x + 1.1) < 2 * pixel and abs(added.y) < 2 * pixel
@@ -71,10 +75,10 @@ def test_click_adds_drag_moves_right_click_removes(window, qtbot):
     qtbot.mousePress(vp, Qt.MouseButton.LeftButton, pos=empty)
     qtbot.mouseMove(vp, centre_pixel_of_world(window, -1.1, -1.0))
     qtbot.mouseRelease(vp, Qt.MouseButton.LeftButton, pos=centre_pixel_of_world(window, -1.1, -1.0))
-    assert len(scene.flakes) == n + 1 and abs(scene.flakes[-1].y + 1.0) < 0.02  # (drags run without echo)
+    assert len(flakes()) == n + 1 and abs(flakes()[-1].y + 1.0) < 0.02  # (drags run without echo)
 
     qtbot.mouseClick(vp, Qt.MouseButton.RightButton, pos=centre_pixel_of_world(window, -1.1, -1.0))
-    assert len(scene.flakes) == n
+    assert len(flakes()) == n
     assert inputs(window)[-1] == f"] snow.remove {n}"
 
 

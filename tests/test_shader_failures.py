@@ -8,7 +8,7 @@ import pytest
 from app.gl.core.shaders import ShaderLibrary
 from app.gl.snowflake.renderer import SnowflakeRenderer
 from app.model.camera2d import Camera2D
-from app.model.snowflake import SnowflakeScene
+from app.model.snowflake import Flake, SnowflakeScene
 from app.reference.snowflake import segments
 from app.resources import SHADERS
 
@@ -38,9 +38,7 @@ def test_broken_edit_keeps_previous_program(gl, tmp_path, breakage):
     errors = []
     library = ShaderLibrary(gl, [shaders], cache_dir=tmp_path / "cache", on_error=errors.append)
     renderer = SnowflakeRenderer(gl, library)
-    scene = SnowflakeScene()
-    scene.add(0, 0, 1)
-    scene.level = 3
+    scene = SnowflakeScene((Flake(0, 0, 1),), 3)
     before = renderer.capture(scene, Camera2D())
 
     name, old, new, (file, line, needle) = BREAKAGES[breakage]

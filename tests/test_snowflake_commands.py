@@ -104,29 +104,33 @@ def test_saved_file_is_documented_format(editor, tmp_path):
 
 
 def test_every_snowflake_edit_is_one_undo_step_and_undo_stays_in_the_workspace(editor):
-    scene = editor.workspaces["snowflake"].scene
+    def scene():  # each edit puts a new frozen scene in place
+        return editor.workspaces["snowflake"].scene
+
     volume_before = editor.workspaces["volume"].volume.voxels.digest()
-    start = scene.digest()
+    start = scene().digest()
     steps = ["snow.add 0.5 0.5 0.2", "snow.level 3", "snow.step 0.25", "snow.remove 0", "snow.clear"]
     states = []
     for line in steps:
-        states.append(scene.digest())
+        states.append(scene().digest())
         assert editor.execute(line)
     for index in range(3):  # the moves of one drag: one step
         assert editor.execute(f"snow.add {index} 0 0.1")
-    states.append(scene.digest())
+    states.append(scene().digest())
     for x in (0.1, 0.2, 0.3):
         assert editor.execute(f"snow.move 0 {x} 0")
-    assert scene.flakes[0].x == 0.3
-    assert editor.execute("undo") and scene.digest() == states[-1]
+    assert scene().flakes[0].x == 0.3
+    assert editor.execute("undo") and scene().digest() == states[-1]
     for _ in range(3):
         assert editor.execute("undo")  # the three adds
     for expected in reversed(states[:-1]):
-        assert editor.execute("undo") and scene.digest() == expected
-    assert scene.digest() == start
+        assert editor.execute("undo") and scene().digest() == expected
+    assert scene().digest() == start
     assert not editor.execute("undo")  # nothing left here; the volume's edits are not reached
     assert editor.workspaces["volume"].volume.voxels.digest() == volume_before
-    assert editor.execute("redo") and scene.digest() == states[1]
+    assert editor.execute("redo") and scene().digest() == states[1]
+    first = scene()
+    assert editor.execute("snow.level 1") and editor.execute("undo") and scene() is first  # the snapshot itself
 
 
 def test_undo_in_the_snowflake_leaves_voxel_edits_alone(editor):

@@ -6,7 +6,7 @@ from app.gl.core.headless import OffscreenTarget
 from app.gl.core.shaders import ShaderLibrary
 from app.gl.snowflake.renderer import CHUNK_DEPTH, SnowflakeRenderer, chunk_layout
 from app.model.camera2d import Camera2D
-from app.model.snowflake import SnowflakeScene
+from app.model.snowflake import Flake, SnowflakeScene
 from app.reference.snowflake import segments
 from app.resources import SHADERS
 
@@ -19,11 +19,7 @@ def renderer(gl):
 
 
 def two_flakes(level):
-    scene = SnowflakeScene()
-    scene.add(0.0, 0.0, 0.6)
-    scene.add(-1.1, 0.7, 0.25)
-    scene.level = level
-    return scene
+    return SnowflakeScene((Flake(0.0, 0.0, 0.6), Flake(-1.1, 0.7, 0.25)), level)
 
 
 @pytest.mark.parametrize("level", [0, 0.5, 1, 2, 2.25, 3, 4, 5.5, 6, 7])
@@ -45,9 +41,7 @@ def test_level_six_and_beyond_within_portable_emission_limit(renderer):
 
 def test_render_draws_the_outline_and_nothing_else(gl, renderer):
     target = OffscreenTarget(gl, (128, 128))
-    scene = SnowflakeScene()
-    scene.add(0.0, 0.0, 1.0)
-    scene.level = 3
+    scene = SnowflakeScene((Flake(0.0, 0.0, 1.0),), 3)
     renderer.render(target.fbo, scene, Camera2D(height=2.4))
     image = target.read()
     lit = image[..., 1] > 60
@@ -75,8 +69,9 @@ def test_flake_buffer_reuploaded_only_on_change(gl, renderer):
     renderer.render(target.fbo, scene, Camera2D())
     uploaded = renderer._uploaded
     renderer.render(target.fbo, scene, Camera2D())
-    assert renderer._uploaded == uploaded == scene.version
-    scene.move(1, 0.5, 0.5)
-    renderer.render(target.fbo, scene, Camera2D())
-    assert renderer._uploaded == scene.version != uploaded
+    renderer.render(target.fbo, scene.with_level(3), Camera2D())  # a level change shares the flakes
+    assert renderer._uploaded is uploaded is scene.flakes
+    moved = scene.moved(1, 0.5, 0.5)
+    renderer.render(target.fbo, moved, Camera2D())
+    assert renderer._uploaded is moved.flakes is not uploaded
     target.release()

@@ -14,7 +14,7 @@ from app.gl.core.lines2d import Lines2D
 from app.gl.core.shaders import ShaderLibrary
 from app.gl.snowflake.renderer import BACKGROUND, LINE_COLOR, SnowflakeRenderer
 from app.model.camera2d import Camera2D
-from app.model.snowflake import SnowflakeScene
+from app.model.snowflake import Flake, SnowflakeScene
 from app.reference.snowflake import segments
 from app.resources import SHADERS
 
@@ -25,27 +25,18 @@ QUICK_LEVELS = (0, 1, 2, 3, 4, 5, 6)
 def grid_scene(count: int) -> tuple[SnowflakeScene, Camera2D]:
     """`count` flakes on a square grid that fills the view."""
     side = math.ceil(math.sqrt(count))
-    scene = SnowflakeScene()
-    for i in range(count):
-        scene.add(i % side - (side - 1) / 2, i // side - (side - 1) / 2, 0.45)
-    return scene, Camera2D(0.0, 0.0, side + 0.2)
-
-
-def _set_level(scene: SnowflakeScene, level: float) -> None:
-    if scene.level != level:
-        scene.level = level
+    flakes = (Flake(i % side - (side - 1) / 2, i // side - (side - 1) / 2, 0.45) for i in range(count))
+    return SnowflakeScene(flakes, 0.0), Camera2D(0.0, 0.0, side + 0.2)
 
 
 def _gs_render(renderer: SnowflakeRenderer, target, level, sc) -> None:
     scene, camera = sc
-    _set_level(scene, level)
-    renderer.render(target.fbo, scene, camera)
+    renderer.render(target.fbo, scene.with_level(level), camera)  # the flakes stay uploaded: the tuple is shared
 
 
 def _gs_output(renderer: SnowflakeRenderer, target, level, sc) -> np.ndarray:
     scene, camera = sc
-    _set_level(scene, level)
-    return renderer.capture(scene, camera) / camera.height
+    return renderer.capture(scene.with_level(level), camera) / camera.height
 
 
 def _cpu_render(lines: Lines2D, target, level, sc) -> None:

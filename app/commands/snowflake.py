@@ -12,7 +12,7 @@ from app.console.text import count, number
 from app.io import snowflake_scene
 from app.io.json_file import storable
 from app.io.snowflake_scene import MAX_FLAKES
-from app.model.snowflake import MAX_LEVEL, Flake, SceneError, check_level
+from app.model.snowflake import MAX_LEVEL, Flake, SceneError, SnowflakeScene, check_level
 from app.model.snowflake_workspace import SnowflakeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -36,7 +36,7 @@ def load(ctx: Ctx, path: str) -> str:
     except SceneError as exc:
         raise CommandError(str(exc)) from None
     ctx.state.history.checkpoint("Load Scene")
-    ctx.state.scene.replace(flakes, level)
+    ctx.state.scene = SnowflakeScene(flakes, level)
     ctx.console.print(f"loaded {count(len(flakes), 'flake')} from {path}")
     return path
 
@@ -73,7 +73,7 @@ def level(ctx: Ctx, value: float | None = None) -> None:
     elif value != scene.level:
         check_level(len(scene.flakes), value)
         ctx.state.history.checkpoint("Set Level")
-        scene.level = value
+        ctx.state.scene = scene.with_level(value)
 
 
 @COMMANDS.command("snow.step", "delta:float", "Change the level by delta, clamped to the valid range (keys w/s)",
@@ -84,7 +84,7 @@ def step(ctx: Ctx, delta: float) -> None:
     if target != scene.level:
         check_level(len(scene.flakes), target)
         ctx.state.history.checkpoint("Step Level")
-        scene.level = target
+        ctx.state.scene = scene.with_level(target)
 
 
 @COMMANDS.command("snow.add", "x:float y:float [radius:float]", "Add a flake centred at (x, y)", allow=SCRIPTS)
@@ -95,27 +95,28 @@ def add(ctx: Ctx, x: float, y: float, radius: float = DEFAULT_RADIUS) -> None:
         raise CommandError(f"a scene holds at most {MAX_FLAKES} flakes")
     check_level(len(scene.flakes) + 1, scene.level)
     ctx.state.history.checkpoint("Add Flake")
-    ctx.console.print(f"flake {scene.add(x, y, radius)} at ({number(x)}, {number(y)})")
+    ctx.state.scene = scene.added(x, y, radius)
+    ctx.console.print(f"flake {len(scene.flakes)} at ({number(x)}, {number(y)})")
 
 
 @COMMANDS.command("snow.move", "index:int x:float y:float", "Move a flake's centre", quiet=True, allow=SCRIPTS)
 def move(ctx: Ctx, index: int, x: float, y: float) -> None:
     flake_at(ctx, index, x, y)
     ctx.state.history.checkpoint("Move Flake", ("snow.move", index))  # a drag's moves: one step
-    ctx.state.scene.move(index, x, y)
+    ctx.state.scene = ctx.state.scene.moved(index, x, y)
 
 
 @COMMANDS.command("snow.remove", "index:int", "Remove a flake", allow=SCRIPTS)
 def remove(ctx: Ctx, index: int) -> None:
     flake_at(ctx, index)
     ctx.state.history.checkpoint("Remove Flake")
-    ctx.state.scene.remove(index)
+    ctx.state.scene = ctx.state.scene.removed(index)
 
 
 @COMMANDS.command("snow.clear", "", "Remove every flake", allow=SCRIPTS)
 def clear(ctx: Ctx) -> None:
     ctx.state.history.checkpoint("Clear Flakes")
-    ctx.state.scene.clear()
+    ctx.state.scene = ctx.state.scene.cleared()
 
 
 @COMMANDS.command("snow.list", "", "List the flakes", allow=SCRIPTS)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -57,50 +57,36 @@ def split_level(level: float) -> tuple[int, float]:
     return m, level - (m - 1)
 
 
+@dataclass(frozen=True, eq=False)
 class SnowflakeScene:
-    """Flakes and the level; `version` counts changes so hosts redraw only when needed."""
+    """Flakes and the level, a frozen value: an edit returns a new scene, so a scene is its own version (hosts
+    redraw when the scene is another object, undo keeps the scenes themselves) and the flakes tuple is shared
+    by scenes that differ only in level (the renderer uploads flakes only when that tuple changes)."""
+    flakes: tuple[Flake, ...] = ()
+    level: float = 2.0
 
-    def __init__(self) -> None:
-        self.flakes: list[Flake] = []
-        self._level = 2.0
-        self.version = 0
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "flakes", tuple(self.flakes))
+        object.__setattr__(self, "level", float(self.level))
+        check_level(len(self.flakes), self.level)
 
-    @property
-    def level(self) -> float:
-        return self._level
+    def with_level(self, level: float) -> SnowflakeScene:
+        return replace(self, level=level)
 
-    @level.setter
-    def level(self, value: float) -> None:
-        value = float(value)
-        check_level(len(self.flakes), value)
-        self._level = value
-        self.version += 1
+    def added(self, x: float, y: float, radius: float) -> SnowflakeScene:
+        """The scene with a new flake last (its index: the old scene's flake count)."""
+        return replace(self, flakes=(*self.flakes, Flake(float(x), float(y), float(radius))))
 
-    def add(self, x: float, y: float, radius: float) -> int:
-        flake = Flake(float(x), float(y), float(radius))
-        check_level(len(self.flakes) + 1, self._level)
-        self.flakes.append(flake)
-        self.version += 1
-        return len(self.flakes) - 1
-
-    def move(self, index: int, x: float, y: float) -> None:
+    def moved(self, index: int, x: float, y: float) -> SnowflakeScene:
         old = self.flakes[self._check(index)]
-        self.flakes[index] = Flake(float(x), float(y), old.radius)
-        self.version += 1
+        return replace(self, flakes=_put(self.flakes, index, Flake(float(x), float(y), old.radius)))
 
-    def remove(self, index: int) -> None:
-        del self.flakes[self._check(index)]
-        self.version += 1
+    def removed(self, index: int) -> SnowflakeScene:
+        self._check(index)
+        return replace(self, flakes=self.flakes[:index] + self.flakes[index + 1:])
 
-    def clear(self) -> None:
-        self.flakes.clear()
-        self.version += 1
-
-    def replace(self, flakes: list[Flake], level: float) -> None:
-        """Swap in a whole scene (a loaded file) only after every value passed validation."""
-        check_level(len(flakes), float(level))
-        self._level, self.flakes = float(level), list(flakes)
-        self.version += 1
+    def cleared(self) -> SnowflakeScene:
+        return replace(self, flakes=())
 
     def pick(self, x: float, y: float, slack: float) -> int | None:
         """The nearest flake whose inner half, or a `slack` radius round its centre, holds (x, y)."""
@@ -116,7 +102,7 @@ class SnowflakeScene:
         return np.array([(f.x, f.y, f.radius) for f in self.flakes], dtype="f4").reshape(-1, 3)
 
     def digest(self) -> str:
-        h = hashlib.sha256(f"level={self._level!r}".encode())
+        h = hashlib.sha256(f"level={self.level!r}".encode())
         for f in self.flakes:
             h.update(f"{f.x!r},{f.y!r},{f.radius!r};".encode())
         return h.hexdigest()[:16]
@@ -127,13 +113,12 @@ class SnowflakeScene:
         return index
 
 
+def _put(items: tuple, index: int, item) -> tuple:
+    return items[:index] + (item,) + items[index + 1:]
+
+
 def default_scene() -> SnowflakeScene:
     """The embedded scene the editor opens on: one large flake ringed by six small ones."""
-    scene = SnowflakeScene()
-    scene.add(0.0, 0.0, 0.55)
-    for k in range(6):
-        a = math.pi / 6 + k * math.pi / 3
-        scene.add(0.95 * math.cos(a), 0.95 * math.sin(a), 0.18)
-    scene.level = 4.0
-    scene.version = 0
-    return scene
+    angles = (math.pi / 6 + k * math.pi / 3 for k in range(6))
+    ring = (Flake(0.95 * math.cos(a), 0.95 * math.sin(a), 0.18) for a in angles)
+    return SnowflakeScene((Flake(0.0, 0.0, 0.55), *ring), 4.0)

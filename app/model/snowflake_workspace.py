@@ -18,15 +18,16 @@ class SnowflakeWorkspace(Workspace):
     def __init__(self) -> None:
         self.scene: SnowflakeScene = default_scene()
         self.camera = Camera2D()
-        # flakes are frozen values: a copy of the list and the level is a whole snapshot
-        self.history = SnapshotHistory(lambda: (list(self.scene.flakes), self.scene.level),
-                                       lambda state: self.scene.replace(*state))
+        self.history = SnapshotHistory(lambda: self.scene, self._restore)  # a frozen scene is its own snapshot
+
+    def _restore(self, scene: SnowflakeScene) -> None:
+        self.scene = scene
 
     def version(self) -> tuple:
-        return self.scene.version, self.camera.key()
+        return self.scene, self.camera.key()
 
-    def document_model(self) -> tuple[object, int]:
-        return self.scene, self.scene.version
+    def document_model(self) -> tuple[object, None]:
+        return self.scene, None  # a new scene after each edit: the scene is its own version
 
     def digest(self) -> dict[str, str]:
         return {"snowflake": self.scene.digest(), "snowflake.camera": short_hash(*self.camera.key())}

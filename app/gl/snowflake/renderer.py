@@ -1,7 +1,6 @@
 """Koch snowflake renderer: points in, line strips out of a GLSL 330 geometry shader."""
 from __future__ import annotations
 
-import weakref
 
 import moderngl
 
@@ -31,8 +30,7 @@ class SnowflakeRenderer:
         self.shaders = shaders
         self._flakes = ctx.buffer(reserve=12)
         self._count = 0
-        self._uploaded = None  # scene version whose flakes are in the buffer...
-        self._uploaded_scene = None  # ...and that scene (weakly): another scene may have the same version
+        self._uploaded: tuple | None = None  # the flakes in the buffer: scenes share the tuple until one changes
         self._capture_fbo: moderngl.Framebuffer | None = None
         self._vaos = VertexArrays(lambda program: ctx.vertex_array(program, [(self._flakes, "3f/i", "in_flake")]))
 
@@ -65,13 +63,13 @@ class SnowflakeRenderer:
             out.release()
 
     def _prepare(self, program: moderngl.Program, scene: SnowflakeScene, camera: Camera2D, width: int, height: int):
-        if self._uploaded != scene.version or self._uploaded_scene is None or self._uploaded_scene() is not scene:
+        if self._uploaded is not scene.flakes:
             data = scene.instances()
             if data.nbytes > self._flakes.size:
                 self._flakes.orphan(data.nbytes)
             if data.size:
                 self._flakes.write(data)
-            self._count, self._uploaded, self._uploaded_scene = len(data), scene.version, weakref.ref(scene)
+            self._count, self._uploaded = len(data), scene.flakes
         if self._count == 0:
             return None, 0
         m, t, depth, chunks = chunk_layout(scene.level)
