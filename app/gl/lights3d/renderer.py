@@ -38,10 +38,13 @@ from app.gl.lights3d.shadow_map import ShadowMap
 from app.gl.lights3d.shadow_volume_pass import METHODS as VOLUME_METHODS
 from app.gl.lights3d.shadow_volume_pass import SHADOW_VALUE, ShadowVolumePass, shadowed
 from app.gl.core.stencil import GL, StencilState, StencilTarget, clear_stencil, stencil_state
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
 from app.model.lights3d.scene import BACKGROUND, Light3D, Scene3D
 from app.model.lights3d.render_settings import Lights3DRenderSettings
+from app.model.transforms import gl_matrix
 
 log = logging.getLogger(__name__)
 # Scene depth and ambient colour: depth LESS and written, stencil untouched.
@@ -51,6 +54,7 @@ SCENE_PASS = StencilState(write_mask=0, depth_write=True, colour_write=True)
 LIT_WHERE = {"onepass": (GL.GL_NOTEQUAL, SHADOW_VALUE), "zpass": (GL.GL_EQUAL, 0), "zfail": (GL.GL_EQUAL, 0)}
 COPY_PASS = StencilState(write_mask=0, depth_func=GL.GL_ALWAYS, colour_write=True)
 LIGHT_KIND = {"point": 0, "spot": 1, "directional": 2}
+HOW_BRIGHT = ("u_range", "u_falloff", "u_cos_angle")  # lights3d_mask reads where a light falls, not how bright
 
 
 def drop_stale_errors() -> None:
@@ -63,12 +67,6 @@ def drop_stale_errors() -> None:
 def light_pass_state(method: str) -> StencilState:
     func, ref = LIT_WHERE.get(method, (GL.GL_ALWAYS, 0))
     return StencilState(func=func, ref=ref, write_mask=0, depth_func=GL.GL_EQUAL, colour_write=True)
-
-
-def matrix(m: np.ndarray) -> tuple:
-    """A row-major numpy matrix as GL's column-major uniform (the shadow volumes' conversion, so the two
-    programs get the same float32 matrix)."""
-    return tuple(np.asarray(m, np.float64).T.flatten())
 
 
 def scene_bounds(buffers: list[ObjectBuffer]) -> tuple[tuple, tuple]:
@@ -113,6 +111,7 @@ class Lights3DRenderer:
         self.maps: dict[int, ShadowMap] = {}  # by light index, for the lights that use one
         self.mask_map: ShadowMap | None = None  # shadow_mask's, drawn anew each time
         self.overlay = Overlay(ctx, shaders)
+        self.units = TextureUnits()  # the shadow maps' too
         self.target: StencilTarget | None = None
         self.frame = FrameStats()
         self._fullscreen = VertexArrays(lambda program: ctx.vertex_array(program, []))
@@ -191,7 +190,7 @@ class Lights3DRenderer:
 
     def _scene_pass(self, fbo, buffers: list[ObjectBuffer], ambient, view_proj: np.ndarray) -> None:
         program = self.shaders.program("lights3d_ambient")
-        program["u_view_proj"].value = matrix(view_proj)
+        program["u_view_proj"].value = gl_matrix(view_proj)
         program["u_ambient"].value = tuple(ambient)
         fbo.use()
         with stencil_state(SCENE_PASS), blending(False):
@@ -209,7 +208,7 @@ class Lights3DRenderer:
             stats.volumes_drawn += len(casters)
         elif light.shadow == "map":
             if index not in self.maps:
-                self.maps[index] = ShadowMap(self.ctx, self.shaders)
+                self.maps[index] = ShadowMap(self.ctx, self.shaders, self.units)
             shadow_map = self.maps[index]
             stats.maps_rendered += shadow_map.render(light, casters, scene_bounds(buffers), settings.map_size,
                                                      settings.pcf)
@@ -221,8 +220,7 @@ class Lights3DRenderer:
         values = {"u_light_colour": tuple(light.colour), "u_eye": tuple(camera.position()),
                   "u_shininess": scene.shininess, "u_specular": scene.specular,
                   "u_facing_test": light.shadow != "none", "u_reach_mask": settings.debug == "mask"}
-        for name, value in values.items():
-            program[name].value = value
+        set_uniforms(program, values)
         if light.shadow == "map":
             self.maps[index].bind(program, settings.bias, settings.pcf)
         else:
@@ -234,14 +232,12 @@ class Lights3DRenderer:
                 b.render(program)
 
     @staticmethod
-    def _light_uniforms(program: moderngl.Program, light: Light3D, view_proj) -> None:
-        values = {"u_view_proj": matrix(view_proj), "u_light_kind": LIGHT_KIND[light.kind],
+    def _light_uniforms(program: moderngl.Program, light: Light3D, view_proj, optional=()) -> None:
+        values = {"u_view_proj": gl_matrix(view_proj), "u_light_kind": LIGHT_KIND[light.kind],
                   "u_light_pos": tuple(light.position), "u_light_dir": tuple(light.direction),
                   "u_range": light.range, "u_falloff": light.falloff,
                   "u_cos_angle": float(np.cos(np.radians(light.angle)))}
-        for name, value in values.items():
-            if name in program:
-                program[name].value = value
+        set_uniforms(program, values, optional=optional)
 
     def _stencil_view(self, fbo) -> None:
         """The stencil as grey, value / 255: each bit's share added where that bit is set (8 passes)."""
@@ -257,8 +253,7 @@ class Lights3DRenderer:
 
     def _copy(self, target: StencilTarget, fbo) -> None:
         program = self.shaders.program("lights3d_present")
-        target.colour.use(0)
-        program["u_image"].value = 0
+        set_uniforms(program, self.units.bind(u_image=target.colour))
         fbo.use()
         with stencil_state(COPY_PASS), blending(False):
             self._fullscreen.get(program).render(vertices=3)
@@ -285,7 +280,7 @@ class Lights3DRenderer:
         self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)
         casters = [b for b in buffers if b.casts and reaches(light, b.centre, b.radius)]
         if method == "map":  # its texture made before the clock starts: drawing a map is timed, not allocating it
-            self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders)
+            self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders, self.units)
             self.mask_map.reserve(light, scene_bounds(buffers), settings.map_size, settings.pcf)
         self.ctx.finish()
         start = time.perf_counter()
@@ -315,7 +310,7 @@ class Lights3DRenderer:
         self.mask_map.forget()
         self.mask_map.render(light, casters, scene_bounds(buffers), settings.map_size, settings.pcf)
         program = self.shaders.program("lights3d_mask")
-        self._light_uniforms(program, light, view_proj)
+        self._light_uniforms(program, light, view_proj, optional=HOW_BRIGHT)
         self.mask_map.bind(program, settings.bias, settings.pcf)
         target.fbo.use()
         with stencil_state(light_pass_state("map")), blending(False):
