@@ -111,7 +111,7 @@ class Lights3DRenderer:
         self.maps: dict[int, ShadowMap] = {}  # by light index, for the lights that use one
         self.mask_map: ShadowMap | None = None  # shadow_mask's, drawn anew each time
         self.overlay = Overlay(ctx, shaders)
-        self.units = TextureUnits()  # the shadow maps' too
+        self.units = TextureUnits()  # its passes' samplers and its shadow maps'
         self.target: StencilTarget | None = None
         self.frame = FrameStats()
         self._fullscreen = VertexArrays(lambda program: ctx.vertex_array(program, []))

@@ -60,7 +60,8 @@ def map_views(light: Light3D, bounds: tuple, size: int, pcf: int) -> MapViews:
     """The views a light's map is drawn from; `bounds` (lo, hi) hold every object, casters and receivers."""
     corners = box_corners(*bounds)
     wider = widening(size, pcf)
-    direction = np.asarray(light.direction, np.float64) / np.linalg.norm(light.direction)  # look_at's unit forward
+    # look_at takes a unit forward: the direction is one, normalised again as the maps always were (the same bits)
+    direction = np.asarray(light.direction, np.float64) / np.linalg.norm(light.direction)
     if light.kind == "point":
         far = light.range  # beyond it katt is 0: nothing there needs a shadow, nothing casts into the range
         faces = tuple(perspective(1.0 / wider, 1.0, NEAR_SHARE * far, far) @ look_at(light.position, d)
@@ -84,8 +85,8 @@ def map_views(light: Light3D, bounds: tuple, size: int, pcf: int) -> MapViews:
 
 class ShadowMap:
     """One light's depth atlas. `render` draws it unless the light, the casters, the bounds and the map's
-    settings are those it last drew (a camera that moves needs no new map). It is read at the unit `units` (the
-    renderer's, whose programs read it) gives u_shadow_map."""
+    settings are those it last drew (a camera that moves needs no new map). It is read at the unit that `units`,
+    the renderer's (its programs read the map), gives u_shadow_map."""
 
     def __init__(self, ctx: moderngl.Context, shaders, units: TextureUnits) -> None:
         self.ctx, self.shaders, self.units = ctx, shaders, units
