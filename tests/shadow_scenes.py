@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from app.model.camera3d import OrbitCamera
+from app.model.transforms import look_at
 
 # A box's 6 faces as quads of corner indices (corner = 4 x + 2 y + z), counter-clockwise seen from outside.
 _BOX_QUADS = ((0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3))
@@ -26,20 +27,11 @@ def ground(half: float = 4.0, y: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     return positions, np.array([[0, 1, 2], [0, 2, 3]], np.int32)
 
 
-def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
-    eye, target = np.asarray(eye, float), np.asarray(target, float)
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    m = np.identity(4)
-    m[0, :3], m[1, :3], m[2, :3] = right, np.cross(right, forward), -forward
-    m[:3, 3] = -m[:3, :3] @ eye
-    return m
-
-
 def view_proj(eye, target, size, near=0.1, far=50.0, fov=50.0) -> np.ndarray:
-    """The app's perspective (OrbitCamera's projection) times a view from `eye` to `target`."""
-    return OrbitCamera(fov=fov).projection(size[0] / size[1], near, far) @ look_at(eye, target)
+    """The app's perspective (OrbitCamera's projection) times a view from `eye` towards the point `target`."""
+    eye, target = np.asarray(eye, float), np.asarray(target, float)
+    view = look_at(eye, (target - eye) / np.linalg.norm(target - eye), (0.0, 1.0, 0.0))
+    return OrbitCamera(fov=fov).projection(size[0] / size[1], near, far) @ view
 
 
 def soup(meshes) -> np.ndarray:

@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from app.gl.clouds.renderer import uniforms
 from app.gl.core.workspace_renderer import WorkspaceRenderer
 from app.model.clouds.scene import CloudRenderSettings
 from app.model.clouds.workspace import CloudsWorkspace
@@ -256,3 +257,15 @@ def test_a_renderer_shown_another_state_uploads_its_weather(host):
     second.new_weather(weather_map(4, 256), "new 4")
     draw(host, first)
     assert host.renderers["clouds"].clouds.textures.sync_weather(second.weather) == 2
+
+
+def test_every_uniform_the_passes_share_is_read_by_one_of_them(host):
+    """The passes share the frame's uniforms, each reading those it needs (CloudRenderer._draw lets a pass lack
+    any of them), so a shared name that no pass reads is one a shader renamed: this says so."""
+    state = sky()
+    draw(host, state, replace(PLAIN, downsample=2, reproject=True))  # trace, resolve, composite
+    _, _, clouds = draw(host, state, replace(PLAIN, taa=True))  # and taa
+    read = set().union(*(set(clouds.shaders.program(p))
+                         for p in ("clouds_trace", "clouds_resolve", "clouds_taa", "clouds_composite")))
+    shared = {*uniforms(state.frame(), PLAIN, 1.0, 0), *clouds.textures.use(clouds.units), "u_buffer"}
+    assert shared <= read, f"no pass reads {sorted(shared - read)}"

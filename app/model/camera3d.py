@@ -9,7 +9,10 @@ from typing import ClassVar
 
 import numpy as np
 
+from app.model.transforms import look_at, perspective
+
 PITCH_LIMIT = 89.0  # straight up or down would make "up" undefined
+UP = (0.0, 1.0, 0.0)
 
 
 @dataclass
@@ -45,7 +48,7 @@ class OrbitCamera:
 
     def _axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         forward = -self._orbit() / self.distance
-        right = np.cross(forward, [0.0, 1.0, 0.0])
+        right = np.cross(forward, UP)
         right /= np.linalg.norm(right)
         return forward, right, np.cross(right, forward)
 
@@ -55,23 +58,13 @@ class OrbitCamera:
     def view(self) -> np.ndarray:
         """World -> camera (4x4, row-major numpy): looking along the orbit's direction with +y up (a
         shifted eye looks parallel to the other, as anaglyph pairs do)."""
-        eye = self.position()
-        forward, right, up = self._axes()
-        m = np.identity(4)
-        m[0, :3], m[1, :3], m[2, :3] = right, up, -forward
-        m[:3, 3] = -m[:3, :3] @ eye
-        return m
+        return look_at(self.position(), self._axes()[0], UP)
 
     def projection(self, aspect: float, near: float | None = None, far: float | None = None) -> np.ndarray:
         near = self.NEAR if near is None else near
         far = self.FAR if far is None else far
         # In a tall view the field of view is kept horizontally, so the volume still fits.
-        f = min(1.0, aspect) / math.tan(math.radians(self.fov) / 2)
-        m = np.zeros((4, 4))
-        m[0, 0], m[1, 1] = f / aspect, f
-        m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
-        m[3, 2] = -1.0
-        return m
+        return perspective(min(1.0, aspect) / math.tan(math.radians(self.fov) / 2), aspect, near, far)
 
     def clip_from_world(self, size: tuple[int, int]) -> np.ndarray:
         """World -> clip (4x4, row-major) for a view `size` (width, height) pixels: the matrix ray() inverts."""

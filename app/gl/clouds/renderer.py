@@ -17,6 +17,8 @@ from dataclasses import asdict, replace
 import moderngl
 import numpy as np
 
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.clouds.scene import CloudRenderSettings, Frame
 
@@ -84,12 +86,10 @@ class CloudTexturesGL:
         self._weather_key = blend.version
         return len(self.weather)
 
-    def use(self) -> dict[str, int]:
-        units = {"u_shape": self.shape, "u_detail": self.detail, "u_curl": self.curl, "u_cirrus": self.cirrus,
-                 "u_weather_old": self.weather[0], "u_weather_new": self.weather[1], "u_blue": self.blue}
-        for unit, texture in enumerate(units.values()):
-            texture.use(unit)
-        return {name: unit for unit, name in enumerate(units)}
+    def use(self, units: TextureUnits) -> dict[str, int]:
+        """Bound at their units of the renderer's `units`: the samplers' values."""
+        return units.bind(u_shape=self.shape, u_detail=self.detail, u_curl=self.curl, u_cirrus=self.cirrus,
+                          u_weather_old=self.weather[0], u_weather_new=self.weather[1], u_blue=self.blue)
 
 
 def reprojects(settings: CloudRenderSettings) -> bool:
@@ -110,6 +110,7 @@ class CloudRenderer:
     def __init__(self, ctx: moderngl.Context, shaders) -> None:
         self.ctx, self.shaders = ctx, shaders
         self.textures: CloudTexturesGL | None = None
+        self.units = TextureUnits()  # every pass's samplers: the noise stays bound while each pass binds its own
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._targets: dict[str, Target] = {}
         self.frame_index = 0
@@ -136,11 +137,12 @@ class CloudRenderer:
             t = self._targets[name] = Target(self.ctx, size, components, linear)
         return t
 
-    def _draw(self, program_name: str, target_fbo, values: dict) -> None:
+    def _draw(self, program_name: str, target_fbo, scene: dict, **own) -> None:
+        """One pass over its target: `scene` the frame's uniforms, shared by the passes, each reading some (every
+        one read by some pass: tests/test_clouds_gl.py); `own` the pass's, all of them read."""
         program = self.shaders.program(program_name)
-        for name, value in values.items():
-            if name in program:
-                program[name].value = value
+        set_uniforms(program, scene, optional=scene.keys())
+        set_uniforms(program, own)
         target_fbo.use()
         self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
 
@@ -155,7 +157,7 @@ class CloudRenderer:
         bsize = buffer_size(size, settings.downsample)
         aspect = size[0] / max(size[1], 1)
         values = uniforms(frame, settings, aspect, self.frame_index)
-        values.update(self.textures.use())
+        values.update(self.textures.use(self.units))
         # The histories hold while only the clock moves (the winds, a weather blend); reprojection's also
         # through a turn of the camera (a direction's colour does not depend on where the camera looks);
         # anything else restarts them (docs/clouds.md, "Optimisations").
@@ -174,18 +176,16 @@ class CloudRenderer:
         else:
             self.taa_frames = 0
         self.last_clouds = clouds
-        composite = dict(values, u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8,
-                         u_debug=int(settings.debug_samples))
-        clouds.use(7)
-        self.last_lookups.textures[1].use(8)
-        self._draw("clouds_composite", fbo, composite)
+        self._draw("clouds_composite", fbo, values,
+                   **self.units.bind(u_clouds=clouds, u_lookups=self.last_lookups.textures[1]),
+                   u_size=tuple(map(float, size)), u_debug=int(settings.debug_samples))
         self._key, self._basis, self._clock = key, basis, clock
         self.frame_index += 1
 
     def _trace(self, size, bsize, settings, values, history: int) -> moderngl.Texture:
         if not reprojects(settings):
             target = self._target("trace", bsize, (4, 1), linear=(0,))
-            self._draw("clouds_trace", target.fbo, dict(values, u_stride=1, u_phase=(0, 0)))
+            self._draw("clouds_trace", target.fbo, values, u_stride=1, u_phase=(0, 0))
             self.last_lookups = target
             self._resolved, self.reprojected_frames = None, 0
             return target.textures[0]
@@ -206,22 +206,20 @@ class CloudRenderer:
         # A pixel keeps its sample for a cycle of d^2 frames: the blue noise moves once a cycle, so the pixels
         # of a block share one offset (different ones would show the block's pattern) and TAA averages cycles.
         offset = (self.frame_index // n * GOLDEN) % 1.0 if settings.jitter else 0.0
-        self._draw("clouds_trace", fresh.fbo, dict(values, u_buffer=size, u_stride=d, u_phase=phase,
-                                                   u_frame_offset=offset))
+        self._draw("clouds_trace", fresh.fbo, values, u_buffer=size, u_stride=d, u_phase=phase,
+                   u_frame_offset=offset)
         # linear, both: a turn reads the last frame and its traced flags between texels
         out = self._target("resolve_b" if last is self._targets.get("resolve_a") else "resolve_a", size, (4, 2),
                            linear=(0, 1))
-        fresh.textures[0].use(9)
-        fresh.textures[1].use(10)
+        self.units.bind(u_fresh=fresh.textures[0], u_fresh_lookups=fresh.textures[1])
         if last is not None:
-            last.textures[0].use(11)
-            last.textures[1].use(12)
+            self.units.bind(u_history=last.textures[0], u_history_state=last.textures[1])
         basis = self._basis or (values["u_forward"], values["u_right"], values["u_up"])
-        self._draw("clouds_resolve", out.fbo, dict(
-            values, u_size=size, u_down=d, u_phase=phase, u_fresh=9, u_fresh_lookups=10, u_history=11,
-            u_history_state=12, u_history_mode=mode, u_prev_forward=basis[0],
-            u_prev_right=basis[1], u_prev_up=basis[2], u_clamp=int(self._clock_moved), u_frames=frames,
-            u_rank=rank, u_average=int(settings.taa and settings.jitter)))
+        self._draw("clouds_resolve", out.fbo, values,
+                   **self.units.uniforms("u_fresh", "u_fresh_lookups", "u_history", "u_history_state"),
+                   u_size=size, u_down=d, u_phase=phase, u_history_mode=mode, u_prev_forward=basis[0],
+                   u_prev_right=basis[1], u_prev_up=basis[2], u_clamp=int(self._clock_moved), u_frames=frames,
+                   u_rank=rank, u_average=int(settings.taa and settings.jitter))
         self._resolved = out
         self.last_lookups = out
         return out.textures[0]
@@ -230,12 +228,11 @@ class CloudRenderer:
         history = self._taa if valid else None
         out = self._target("taa_b" if history is self._targets.get("taa_a") else "taa_a", bsize, (4,), linear=(0,))
         self.taa_frames = self.taa_frames + 1 if history is not None else 1
-        current.use(12)
+        self.units.bind(u_current=current)
         if history is not None:
-            history.textures[0].use(13)
-        self._draw("clouds_taa", out.fbo, dict(values, u_current=12, u_history=13,
-                                               u_history_valid=int(history is not None),
-                                               u_weight=max(1.0 / self.taa_frames, 1.0 / TAA_FRAMES)))
+            self.units.bind(u_history=history.textures[0])
+        self._draw("clouds_taa", out.fbo, values, **self.units.uniforms("u_current", "u_history"),
+                   u_history_valid=int(history is not None), u_weight=max(1.0 / self.taa_frames, 1.0 / TAA_FRAMES))
         self._taa = out
         return out.textures[0]
 
@@ -254,7 +251,9 @@ class CloudRenderer:
         march = float(np.frombuffer(counts.read(), dtype="f4").reshape(-1, counts.components)[:, 0].sum())
         target = self._target("lookups", size, (1,))
         values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
-        values.update(self.textures.use(), u_size=tuple(map(float, size)), u_clouds=7, u_lookups=8, u_debug=2)
-        self._draw("clouds_composite", target.fbo, values)
+        values.update(self.textures.use(self.units))
+        self._draw("clouds_composite", target.fbo, values,
+                   **self.units.bind(u_clouds=self.last_clouds, u_lookups=counts), u_size=tuple(map(float, size)),
+                   u_debug=2)
         composite = float(np.frombuffer(target.textures[0].read(), dtype="f4").sum())
         return (march + composite) / (size[0] * size[1])

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import moderngl
 
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 
 SMOOTHING = 0.5  # weight of the newest frame time in each level's running estimate
@@ -50,6 +52,7 @@ class ReducedTarget:
         self.size = None
         self.texture = self.fbo = None
         self._vaos = VertexArrays(lambda program: ctx.vertex_array(program, []))
+        self.units = TextureUnits()
 
     def framebuffer(self, screen: tuple[int, int], scale: float) -> moderngl.Framebuffer:
         size = (max(1, math.ceil(screen[0] * scale)), max(1, math.ceil(screen[1] * scale)))
@@ -65,9 +68,7 @@ class ReducedTarget:
 
     def present(self, screen: moderngl.Framebuffer) -> None:
         program = self.shaders.program("upscale")
-        self.texture.use(0)
-        if "u_image" in program:
-            program["u_image"].value = 0
+        set_uniforms(program, self.units.bind(u_image=self.texture))
         screen.use()
         self._vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
 

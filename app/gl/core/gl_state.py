@@ -15,6 +15,7 @@ import os
 
 import moderngl
 
+from app.gl.core import texture_units
 from app.gl.core.stencil import GL
 
 ALL_ONES = 0xFFFFFFFF
@@ -50,7 +51,9 @@ FLOATS = {
     "GL_POLYGON_OFFSET_FACTOR": (0.0,), "GL_POLYGON_OFFSET_UNITS": (0.0,),
 }
 BOOLEANS = {"GL_COLOR_WRITEMASK": (True, True, True, True), "GL_DEPTH_WRITEMASK": (True,)}
-SAMPLER_UNITS = 16  # units whose sampler binding is checked: a sampler left bound overrides a texture's filter there
+# Units whose sampler binding is checked (a sampler left bound overrides a texture's filter there): all those a
+# renderer's TextureUnits hands out.
+SAMPLER_UNITS = texture_units.LIMIT
 
 
 def debug_enabled() -> bool:

@@ -137,7 +137,7 @@ class ShaderLibrary:
         self._write_cache(sources.values())
         geometry = sources.get(Stage.GEOMETRY)
         try:
-            return self.ctx.program(
+            program = self.ctx.program(
                 vertex_shader=sources[Stage.VERTEX].text,
                 geometry_shader=geometry.text if geometry else None,
                 fragment_shader=sources[Stage.FRAGMENT].text,
@@ -145,6 +145,8 @@ class ShaderLibrary:
             )
         except moderngl.Error as exc:
             raise _driver_error(str(exc), spec, sources) from None
+        program.extra = name  # what set_uniforms' errors call it (app/gl/core/uniforms.py)
+        return program
 
     def _find(self, name: str, deps: set[Path]) -> Path:
         for directory in self.search_dirs:

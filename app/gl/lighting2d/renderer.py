@@ -15,6 +15,8 @@ import moderngl
 import numpy as np
 
 from app.gl.lighting2d.geometry import LightGeometry, disc_samples
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.io.textures2d import image
 from app.model.camera2d import Camera2D
@@ -66,6 +68,7 @@ class Lighting2DRenderer:
         self._targets: dict[str, tuple] = {}
         self._textures: dict[str, moderngl.Texture] = {}
         self.stats = FrameStats()
+        self.units = TextureUnits()
 
     # ---- public -------------------------------------------------------------------------------------
 
@@ -78,12 +81,9 @@ class Lighting2DRenderer:
         self._blend_off()
         program = self.shaders.program("light2d_composite")
         diffuse = self._texture(scene.background, repeat=True)
-        diffuse.use(0)
-        lightmap.use(1)
-        program["u_diffuse"].value, program["u_lightmap"].value = 0, 1
         sx, sy, ox, oy = self._ndc_to_world(camera, *fbo.size, settings.flip_y, diffuse.size)
-        program["u_world_scale"].value, program["u_world_offset"].value = (sx, sy), (ox, oy)
-        program["u_lightmap_only"].value = lightmap_only
+        set_uniforms(program, self.units.bind(u_diffuse=diffuse, u_lightmap=lightmap), u_world_scale=(sx, sy),
+                     u_world_offset=(ox, oy), u_lightmap_only=lightmap_only)
         self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
         return self.stats
 
@@ -252,10 +252,10 @@ class Lighting2DRenderer:
         mask_fbo.scissor = other_fbo.scissor = grown
         self._fill(mask_fbo, 1.0, ALL)
         self._edge_mask(mask_fbo, light, span, common, soft=False, color_mask=ALL)
-        program = self._program("light2d_blur", {}, u_sigma=float(sigma), u_mask=0)
+        program = self._program("light2d_blur", {}, u_sigma=float(sigma), u_mask=self.units["u_mask"])
         for source, target, step in ((mask, other_fbo, (1.0, 0.0)), (other, mask_fbo, (0.0, 1.0))):
             _bind(target, ALL)
-            source.use(0)
+            self.units.bind(u_mask=source)
             program["u_step"].value = step
             self._screen_vaos.get(program).render(moderngl.TRIANGLES, vertices=3)
         self._mask_into_alpha(fbo, mask, (1.0, 0.0, 0.0, 0.0), blend=False)
@@ -268,9 +268,8 @@ class Lighting2DRenderer:
         if span.geometry.touching:  # a hull overlaps the disc: shadows can fall anywhere, so no cover
             self._exact_pass(fbo, light, span, common, outside=False)
             return
-        self._pieces.use(0)
-        region = self._program("light2d_region", common, u_pieces=0, u_radius=float(light.radius),
-                               u_color=(0.0, 0.0, 0.0, 0.0))
+        region = self._program("light2d_region", common, **self.units.bind(u_pieces=self._pieces),
+                               u_radius=float(light.radius), u_color=(0.0, 0.0, 0.0, 0.0))
         solid = light.shadow_type == "solid"
         fbo.depth_mask = True
         _bind(fbo, (False, False, False, False))
@@ -296,17 +295,16 @@ class Lighting2DRenderer:
             fbo.depth_mask = True
 
     def _exact_pass(self, fbo, light, span, common, outside: bool) -> None:
-        self._pieces.use(0)
-        name = "light2d_exact"
-        if span.geometry.touching:
+        name, cover = "light2d_exact", {"u_outside": outside}
+        if span.geometry.touching:  # no cover (see _exact_mask), so nothing outside it: the disc programs lack it
             ordered = span.geometry.ordered
-            name = "light2d_disc_order" if ordered else "light2d_disc"
+            name, cover = "light2d_disc_order" if ordered else "light2d_disc", {}
             self.stats.disc_ordered += ordered
             self.stats.disc_fused += not ordered
         program = self._program(
-            name, common, u_pieces=0,
+            name, common, **self.units.bind(u_pieces=self._pieces),
             u_begin=span.piece_first, u_end=span.piece_first + len(span.geometry.pieces),
-            u_radius=float(light.radius), u_shadow_type=SHADOW_TYPES[light.shadow_type], u_outside=outside,
+            u_radius=float(light.radius), u_shadow_type=SHADOW_TYPES[light.shadow_type], **cover,
             **self._quad_uniforms(light))
         _bind(fbo, ALPHA)
         self._blend_off()
@@ -324,15 +322,14 @@ class Lighting2DRenderer:
 
     def _light_pass(self, fbo, scene, light: Light, common, settings: Shading2D) -> None:
         normals_on = bool(settings.normal_maps and scene.normal_map and light.height > 0)
-        extra = {}
+        extra = self.units.uniforms("u_cookie", "u_normals")  # bound only where read
         if light.kind == "textured":
-            self._texture(light.texture, repeat=False).use(1)
-            extra["u_cookie"] = 1
+            self.units.bind(u_cookie=self._texture(light.texture, repeat=False))
         if normals_on:
             normals = self._texture(scene.normal_map, repeat=True)
-            normals.use(2)
+            self.units.bind(u_normals=normals)
             w, h = normals.size
-            extra.update(u_normals=2, u_normal_at=((light.position[0] / w) % 1.0, (light.position[1] / h) % 1.0))
+            extra["u_normal_at"] = ((light.position[0] / w) % 1.0, (light.position[1] / h) % 1.0)
         program = self._program(
             "light2d_light", common, u_kind=KINDS[light.kind], u_color=light.color, u_intensity=light.intensity,
             u_cone=light.cone_half_angle() if light.kind == "spot" else 1.0, u_decay=light.cone_decay,
@@ -354,9 +351,7 @@ class Lighting2DRenderer:
 
     def _program(self, name: str, common: dict, **uniforms) -> moderngl.Program:
         program = self.shaders.program(name)
-        for key, value in {**common, **uniforms}.items():
-            if key in program:
-                program[key].value = value
+        set_uniforms(program, {**common, **uniforms})
         return program
 
     @staticmethod
@@ -380,8 +375,7 @@ class Lighting2DRenderer:
         self._blend_off()
 
     def _mask_into_alpha(self, fbo, mask, weights, blend: bool) -> None:
-        program = self._program("light2d_mask", {}, u_mask=0, u_weights=weights)
-        mask.use(0)
+        program = self._program("light2d_mask", {}, **self.units.bind(u_mask=mask), u_weights=weights)
         _bind(fbo, ALPHA)
         if blend:
             self.ctx.enable(moderngl.BLEND)

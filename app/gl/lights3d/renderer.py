@@ -38,16 +38,20 @@ from app.gl.lights3d.shadow_map import ShadowMap
 from app.gl.lights3d.shadow_methods import MAP, METHODS
 from app.gl.lights3d.shadow_volume_pass import ShadowVolumePass, shadowed
 from app.gl.core.stencil import GL, StencilState, StencilTarget, clear_stencil, stencil_state
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
 from app.model.lights3d.scene import BACKGROUND, Light3D, Scene3D
 from app.model.lights3d.render_settings import Lights3DRenderSettings
+from app.model.transforms import gl_matrix
 
 log = logging.getLogger(__name__)
 # Scene depth and ambient colour: depth LESS and written, stencil untouched.
 SCENE_PASS = StencilState(write_mask=0, depth_write=True, colour_write=True)
 COPY_PASS = StencilState(write_mask=0, depth_func=GL.GL_ALWAYS, colour_write=True)
 LIGHT_KIND = {"point": 0, "spot": 1, "directional": 2}
+HOW_BRIGHT = ("u_range", "u_falloff", "u_cos_angle")  # lights3d_mask reads where a light falls, not how bright
 
 
 def drop_stale_errors() -> None:
@@ -55,12 +59,6 @@ def drop_stale_errors() -> None:
     bound leaves one at the next one made), logged, so that glGetError after the frame tells of its own alone."""
     while (error := GL.glGetError()) != GL.GL_NO_ERROR:
         log.warning("a GL error left before the 3D lights' frame: 0x%x", error)
-
-
-def matrix(m: np.ndarray) -> tuple:
-    """A row-major numpy matrix as GL's column-major uniform (the shadow volumes' conversion, so the two
-    programs get the same float32 matrix)."""
-    return tuple(np.asarray(m, np.float64).T.flatten())
 
 
 def scene_bounds(buffers: list[ObjectBuffer]) -> tuple[tuple, tuple]:
@@ -105,6 +103,7 @@ class Lights3DRenderer:
         self.maps: dict[int, ShadowMap] = {}  # by light index, for the lights that use one
         self.mask_map: ShadowMap | None = None  # shadow_mask's, drawn anew each time
         self.overlay = Overlay(ctx, shaders)
+        self.units = TextureUnits()  # its passes' samplers and its shadow maps'
         self.target: StencilTarget | None = None
         self.frame = FrameStats()
         self._fullscreen = VertexArrays(lambda program: ctx.vertex_array(program, []))
@@ -183,7 +182,7 @@ class Lights3DRenderer:
 
     def _scene_pass(self, fbo, buffers: list[ObjectBuffer], ambient, view_proj: np.ndarray) -> None:
         program = self.shaders.program("lights3d_ambient")
-        program["u_view_proj"].value = matrix(view_proj)
+        program["u_view_proj"].value = gl_matrix(view_proj)
         program["u_ambient"].value = tuple(ambient)
         fbo.use()
         with stencil_state(SCENE_PASS), blending(False):
@@ -202,7 +201,7 @@ class Lights3DRenderer:
             stats.volumes_drawn += len(casters)
         elif method.shadow_map:
             if index not in self.maps:
-                self.maps[index] = ShadowMap(self.ctx, self.shaders)
+                self.maps[index] = ShadowMap(self.ctx, self.shaders, self.units)
             shadow_map = self.maps[index]
             stats.maps_rendered += shadow_map.render(light, casters, scene_bounds(buffers), settings.map_size,
                                                      settings.pcf)
@@ -215,8 +214,7 @@ class Lights3DRenderer:
         values = {"u_light_colour": tuple(light.colour), "u_eye": tuple(camera.position()),
                   "u_shininess": scene.shininess, "u_specular": scene.specular,
                   "u_facing_test": method.shadows, "u_reach_mask": settings.debug == "mask"}
-        for name, value in values.items():
-            program[name].value = value
+        set_uniforms(program, values)
         if method.shadow_map:
             self.maps[index].bind(program, settings.bias, settings.pcf)
         else:
@@ -228,14 +226,12 @@ class Lights3DRenderer:
                 b.render(program)
 
     @staticmethod
-    def _light_uniforms(program: moderngl.Program, light: Light3D, view_proj) -> None:
-        values = {"u_view_proj": matrix(view_proj), "u_light_kind": LIGHT_KIND[light.kind],
+    def _light_uniforms(program: moderngl.Program, light: Light3D, view_proj, optional=()) -> None:
+        values = {"u_view_proj": gl_matrix(view_proj), "u_light_kind": LIGHT_KIND[light.kind],
                   "u_light_pos": tuple(light.position), "u_light_dir": tuple(light.direction),
                   "u_range": light.range, "u_falloff": light.falloff,
                   "u_cos_angle": float(np.cos(np.radians(light.angle)))}
-        for name, value in values.items():
-            if name in program:
-                program[name].value = value
+        set_uniforms(program, values, optional=optional)
 
     def _stencil_view(self, fbo) -> None:
         """The stencil as grey, value / 255: each bit's share added where that bit is set (8 passes)."""
@@ -251,8 +247,7 @@ class Lights3DRenderer:
 
     def _copy(self, target: StencilTarget, fbo) -> None:
         program = self.shaders.program("lights3d_present")
-        target.colour.use(0)
-        program["u_image"].value = 0
+        set_uniforms(program, self.units.bind(u_image=target.colour))
         fbo.use()
         with stencil_state(COPY_PASS), blending(False):
             self._fullscreen.get(program).render(vertices=3)
@@ -280,7 +275,7 @@ class Lights3DRenderer:
         self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)
         casters = [b for b in buffers if b.casts and reaches(light, b.centre, b.radius)]
         if shadow.shadow_map:  # its texture made before the clock starts: drawing a map is timed, not allocating it
-            self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders)
+            self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders, self.units)
             self.mask_map.reserve(light, scene_bounds(buffers), settings.map_size, settings.pcf)
         self.ctx.finish()
         start = time.perf_counter()
@@ -310,7 +305,7 @@ class Lights3DRenderer:
         self.mask_map.forget()
         self.mask_map.render(light, casters, scene_bounds(buffers), settings.map_size, settings.pcf)
         program = self.shaders.program("lights3d_mask")
-        self._light_uniforms(program, light, view_proj)
+        self._light_uniforms(program, light, view_proj, optional=HOW_BRIGHT)
         self.mask_map.bind(program, settings.bias, settings.pcf)
         target.fbo.use()
         with stencil_state(MAP.light_pass), blending(False):

@@ -21,10 +21,12 @@ import numpy as np
 
 from app.gl.lights3d.light_reach import box_corners
 from app.gl.core.stencil import GL, StencilState, stencil_state
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.model.lights3d.scene import Light3D
+from app.model.transforms import gl_matrix, look_at, orthographic, perspective
 
 PROGRAM = "shadow_map"
-UNIT = 1  # the texture unit the map is read from
 NEAR_SHARE = 1e-3  # a perspective view's near plane, as a share of its far one
 # Depth only, from the light: LESS, the casters' back faces (culled front faces).
 DEPTH_STATE = StencilState(write_mask=0, depth_write=True, cull=GL.GL_FRONT)
@@ -54,49 +56,24 @@ def widening(size: int, pcf: int) -> float:
     return size / (size - 2 * pad(pcf))
 
 
-def look_at(eye, forward) -> np.ndarray:
-    forward = np.asarray(forward, np.float64) / np.linalg.norm(forward)
-    up = np.eye(3)[np.argmin(np.abs(forward))]  # the axis least along the view: never parallel to it
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    m = np.identity(4)
-    m[0, :3], m[1, :3], m[2, :3] = right, np.cross(right, forward), -forward
-    m[:3, 3] = -m[:3, :3] @ np.asarray(eye, np.float64)
-    return m
-
-
-def perspective(tan_half: float, near: float, far: float) -> np.ndarray:
-    m = np.zeros((4, 4))
-    m[0, 0] = m[1, 1] = 1.0 / tan_half
-    m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
-    m[3, 2] = -1.0
-    return m
-
-
-def orthographic(lo, hi) -> np.ndarray:
-    """View-space box lo..hi (x, y, and depth along -z) onto the clip cube."""
-    (x0, y0, n), (x1, y1, f) = lo, hi
-    m = np.identity(4)
-    m[0, 0], m[1, 1], m[2, 2] = 2 / (x1 - x0), 2 / (y1 - y0), -2 / (f - n)
-    m[:3, 3] = -(x1 + x0) / (x1 - x0), -(y1 + y0) / (y1 - y0), -(f + n) / (f - n)
-    return m
-
-
 def map_views(light: Light3D, bounds: tuple, size: int, pcf: int) -> MapViews:
     """The views a light's map is drawn from; `bounds` (lo, hi) hold every object, casters and receivers."""
     corners = box_corners(*bounds)
     wider = widening(size, pcf)
+    # look_at takes a unit forward: the direction is one, normalised again as the maps always were (the same bits)
+    direction = np.asarray(light.direction, np.float64) / np.linalg.norm(light.direction)
     if light.kind == "point":
         far = light.range  # beyond it katt is 0: nothing there needs a shadow, nothing casts into the range
-        faces = tuple(perspective(wider, NEAR_SHARE * far, far) @ look_at(light.position, d) for d in CUBE_FACES)
+        faces = tuple(perspective(1.0 / wider, 1.0, NEAR_SHARE * far, far) @ look_at(light.position, d)
+                      for d in CUBE_FACES)
         return MapViews(faces, far, (3, 2))
     if light.kind == "spot":
         far = max(float(np.linalg.norm(corners - light.position, axis=1).max()), 1e-6)
         tan_half = math.tan(math.radians(light.angle)) * wider
-        view = perspective(tan_half, NEAR_SHARE * far, far) @ look_at(light.position, light.direction)
+        view = perspective(1.0 / tan_half, 1.0, NEAR_SHARE * far, far) @ look_at(light.position, direction)
         return MapViews((view,), far, (1, 1))
     centre = (corners.min(0) + corners.max(0)) / 2
-    view = look_at(centre, light.direction)
+    view = look_at(centre, direction)
     local = corners @ view[:3, :3].T + view[:3, 3]
     half = np.maximum(np.abs(local[:, :2]).max(0), 1e-6) * wider
     depth = -local[:, 2]
@@ -108,10 +85,11 @@ def map_views(light: Light3D, bounds: tuple, size: int, pcf: int) -> MapViews:
 
 class ShadowMap:
     """One light's depth atlas. `render` draws it unless the light, the casters, the bounds and the map's
-    settings are those it last drew (a camera that moves needs no new map)."""
+    settings are those it last drew (a camera that moves needs no new map). It is read at the unit that `units`,
+    the renderer's (its programs read the map), gives u_shadow_map."""
 
-    def __init__(self, ctx: moderngl.Context, shaders) -> None:
-        self.ctx, self.shaders = ctx, shaders
+    def __init__(self, ctx: moderngl.Context, shaders, units: TextureUnits) -> None:
+        self.ctx, self.shaders, self.units = ctx, shaders, units
         self.texture: moderngl.Texture | None = None
         self.fbo: moderngl.Framebuffer | None = None
         self.views: MapViews | None = None
@@ -134,7 +112,7 @@ class ShadowMap:
         with stencil_state(DEPTH_STATE):
             for face, view_proj in enumerate(views.view_proj):
                 self.fbo.viewport = views.tile(face, size)
-                program["u_view_proj"].value = tuple(view_proj.T.flatten())
+                program["u_view_proj"].value = gl_matrix(view_proj)
                 for caster in casters:
                     caster.render(program)
         self.views, self.size, self._drawn = views, size, key
@@ -150,15 +128,13 @@ class ShadowMap:
 
     def bind(self, program: moderngl.Program, bias: float, pcf: int) -> None:
         """The map and how to read it, for a program that includes shadow_map.shl."""
-        self.texture.use(UNIT)
         faces = list(self.views.view_proj) + [np.identity(4)] * (6 - len(self.views.view_proj))
-        values = {"u_shadow_map": UNIT, "u_map_mode": 2 if len(self.views.view_proj) == 6 else 1,
-                  "u_map_view_proj": [tuple(f.T.flatten()) for f in faces], "u_map_far": self.views.far,
+        values = {**self.units.bind(u_shadow_map=self.texture),
+                  "u_map_mode": 2 if len(self.views.view_proj) == 6 else 1,
+                  "u_map_view_proj": [gl_matrix(f) for f in faces], "u_map_far": self.views.far,
                   "u_map_size": float(self.size), "u_map_grid": tuple(map(float, self.views.grid)),
                   "u_pcf": pcf, "u_bias": bias}
-        for name, value in values.items():
-            if name in program:
-                program[name].value = value
+        set_uniforms(program, values)
 
     def _target(self, shape: tuple[int, int]) -> None:
         if self.texture is not None and self.texture.size == shape:

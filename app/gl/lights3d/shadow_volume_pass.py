@@ -24,6 +24,7 @@ from app.gl.lights3d.shadow_volumes import VolumeGeometry
 from app.gl.core.stencil import StencilState, StencilTarget, clear_stencil, stencil_state
 from app.gl.lights3d.shadow_volume_buffers import VolumeBuffer
 from app.model.lights3d.mesh import Adjacency
+from app.model.transforms import gl_matrix
 
 PROGRAM = "shadow_volume"
 METHODS = tuple(name for name, m in shadow_methods.METHODS.items() if m.volumes)  # the volume methods' names
@@ -121,7 +122,7 @@ class ShadowVolumePass:
         if not triangles:
             return 0
         program = self.shaders.program(PROGRAM)
-        program["u_view_proj"].value = tuple(np.asarray(view_proj, np.float64).T.flatten())
+        program["u_view_proj"].value = gl_matrix(view_proj)
         fbo.use()  # before the state: use() re-applies the framebuffer's colour and depth masks
         with stencil_state(state):
             for b in buffers:

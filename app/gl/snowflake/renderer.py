@@ -6,6 +6,7 @@ import moderngl
 
 import numpy as np
 
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.camera2d import Camera2D
 from app.model.snowflake import SnowflakeScene, split_level
@@ -74,7 +75,6 @@ class SnowflakeRenderer:
             return None, 0
         m, t, depth, chunks = chunk_layout(scene.level)
         scale, offset = camera.scale_offset(width, height)
-        for name, value in (("u_levels", m), ("u_chunk_depth", depth), ("u_last_t", t),
-                            ("u_scale", tuple(scale)), ("u_offset", tuple(offset))):
-            program[name].value = value
+        set_uniforms(program, u_levels=m, u_chunk_depth=depth, u_last_t=t, u_scale=tuple(scale),
+                     u_offset=tuple(offset))
         return self._vaos.get(program), chunks

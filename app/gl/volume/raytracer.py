@@ -7,12 +7,15 @@ import moderngl
 import numpy as np
 from scipy.ndimage import distance_transform_edt
 
+from app.gl.core.texture_units import TextureUnits
+from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.gl.volume.texture import VolumeTexture
 from app.model.volume.voxels import VolumeWatch, Voxels
 from app.model.volume import render_modes as rm
 from app.model.volume.render_modes import TraceSettings
 from app.model.volume.view import AXIS_INDEX, VolumeView, box_extents
+from app.model.transforms import gl_matrix
 
 EDITED_SLICE = (0.35, 0.85, 1.0, 0.10)   # faint: where the painter works
 PICKED_SLICE = (1.0, 0.85, 0.2, 0.35)    # the slice picker's hovered slice
@@ -113,6 +116,7 @@ class RayTracer:
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._box = VertexArrays(lambda program: ctx.vertex_array(program, [(self.cube, "3f", "in_position")]))
         self._entry: tuple | None = None  # (size, texture, framebuffer) of the two-pass setup
+        self.units = TextureUnits()
 
     def render(self, fbo: moderngl.Framebuffer, voxels: Voxels, view: VolumeView, settings: TraceSettings) -> None:
         """Key x magnifies, t draws an anaglyph pair (red: left eye; green and blue: right), f the edges."""
@@ -131,7 +135,7 @@ class RayTracer:
         w, h = fbo.size
         program = self.shaders.program("box_edges")
         view_proj = cam.clip_from_world((w, h))
-        self._set(program, {"u_view_proj": tuple(view_proj.T.flatten()), "u_color": WIREFRAME,
+        set_uniforms(program, {"u_view_proj": gl_matrix(view_proj), "u_color": WIREFRAME,
                             "u_extent": box_extents(voxels.size)})
         fbo.use()
         self._edges.get(program).render(moderngl.LINES)
@@ -143,19 +147,18 @@ class RayTracer:
         extent = np.array(box_extents(voxels.size), dtype="f4")
         uniforms = self._uniforms(voxels, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
-        self.volume.sync(voxels).use(0)
-        self.linear.use(0)
-        self.volume.texture.use(1)
-        self.nearest.use(1)
+        # one volume at two units, read through two samplers
+        uniforms.update(self.units.bind(u_volume=self.volume.sync(voxels), u_nearest=self.volume.texture),
+                        u_distance=self.units["u_distance"])
+        self.units.bind(u_volume=self.linear, u_nearest=self.nearest)
         if mode.distance:
-            self.distance.sync(voxels).use(2)
+            self.units.bind(u_distance=self.distance.sync(voxels))
         background = tuple(c / 255 for c in view.background)
         if mode.two_pass:
             entry = self._entry_pass((w, h), view_proj, extent)
             program = self.shaders.program("raytrace2")
-            entry.use(3)
-            uniforms.update(u_entry=3, u_view_proj=tuple(view_proj.T.flatten()))
-            self._set(program, uniforms)
+            uniforms.update(self.units.bind(u_entry=entry), u_view_proj=gl_matrix(view_proj))
+            set_uniforms(program, uniforms)
             fbo.use()
             fbo.clear(*background, 1.0)  # within the colour mask: a stereo pair's first eye stays
             self.ctx.enable(moderngl.CULL_FACE)
@@ -165,12 +168,12 @@ class RayTracer:
             self.ctx.disable(moderngl.CULL_FACE)
         else:
             program = self.shaders.program("raytrace")
-            uniforms["u_inv_view_proj"] = tuple(np.linalg.inv(view_proj).T.flatten())
-            self._set(program, uniforms)
+            uniforms["u_inv_view_proj"] = gl_matrix(np.linalg.inv(view_proj))
+            set_uniforms(program, uniforms)
             fbo.use()
             self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
-        self.linear.clear(0)
-        self.nearest.clear(1)
+        self.linear.clear(self.units["u_volume"])
+        self.nearest.clear(self.units["u_nearest"])
 
     def _entry_pass(self, size, view_proj: np.ndarray, extent: np.ndarray) -> moderngl.Texture:
         if self._entry is None or self._entry[0] != size:
@@ -182,7 +185,7 @@ class RayTracer:
             self._entry = (size, texture, self.ctx.framebuffer([texture]))
         _size, texture, framebuffer = self._entry
         program = self.shaders.program("box_faces")
-        self._set(program, {"u_view_proj": tuple(view_proj.T.flatten()), "u_extent": tuple(extent)})
+        set_uniforms(program, {"u_view_proj": gl_matrix(view_proj), "u_extent": tuple(extent)})
         framebuffer.use()
         framebuffer.clear(0.0, 0.0, 0.0, 0.0)
         self.ctx.enable(moderngl.CULL_FACE)  # front faces only: where each ray enters
@@ -214,17 +217,8 @@ class RayTracer:
             "u_dual": int(mode.dual),
             "u_reflections": int(mode.reflections),
             "u_skip": int(mode.distance),
-            "u_volume": 0,
-            "u_nearest": 1,
-            "u_distance": 2,
             "u_debug_samples": int(s.debug_samples),
             "u_plane_axis": [AXIS_INDEX.get(a, -1) for a, _i, _c in planes],
             "u_plane_pos": [(i + 0.5) / voxels.size[AXIS_INDEX.get(a, 0)] for a, i, _c in planes],
             "u_plane_color": [c for _a, _i, c in planes],
         }
-
-    @staticmethod
-    def _set(program: moderngl.Program, values: dict) -> None:
-        for name, value in values.items():
-            if name in program:  # the compiler drops what a program does not use
-                program[name].value = value
