@@ -40,7 +40,8 @@ def test_a_slider_drag_of_one_parameter_is_one_undo_step(editor):
 
 @pytest.mark.parametrize("line", ["clouds.set nonsense 1", "clouds.set coverage 3", "clouds.set coverage nan",
                                   "clouds.set light_samples 7", "clouds.set shape_noise 0.5",
-                                  "clouds.set shape_min 0.9", "camera.alt 0", "camera.alt 1e9",
+                                  "clouds.set shape_min 0.9", "clouds.set octave_scattering 0.8",
+                                  "clouds.set phase_max 2", "r_cloudFurnace maybe", "camera.alt 0", "camera.alt 1e9",
                                   "camera.look 0 91", "sun.dir 0 95", "sun.time 25", "weather.new -1",
                                   "clouds.time -1", "r_cloudSteps 0", "r_cloudDownsample 5",
                                   "r_cloudIntegration exact"])

@@ -49,7 +49,12 @@ def test_the_default_frames_lobes_integrate_to_one():
             total, _ = quad(lambda c: rc.hg(c, g), -1.0, 1.0, limit=200, epsabs=1e-12)
             assert 2 * math.pi * total == pytest.approx(1.0, abs=1e-8)
     cos = np.linspace(-1, 1, 11)
-    np.testing.assert_array_equal(rc.phase(fr, cos, 1.0), np.maximum(rc.hg(cos, fr.g_forward), rc.hg(cos, fr.g_back)))
+    w = fr.back_weight
+    np.testing.assert_allclose(rc.phase(fr, cos, 1.0), (1 - w) * rc.hg(cos, fr.g_forward) + w * rc.hg(cos, fr.g_back),
+                               rtol=1e-14)
+    seed = cm.frame(CloudParams(phase_max=1), CloudView())
+    np.testing.assert_array_equal(rc.phase(seed, cos, 1.0), np.maximum(rc.hg(cos, fr.g_forward),
+                                                                       rc.hg(cos, fr.g_back)))
 
 
 # --- sampling ------------------------------------------------------------------------------------------------
@@ -207,8 +212,12 @@ def test_light_without_extinction_is_phase_powder_and_ambient(tex, multiscatter)
     p = np.array([[0.0, 1500.0 + 0.25 * 4000, 0.0], [0.0, 1500.0 + 0.75 * 4000, 0.0]])  # h 0.25, 0.75
     rho, cos = np.array([0.3, 1.0]), np.array([0.9, -0.4])
     s = rc.light(fr, tex, p, rho, cos)
-    octaves = range(cm.OCTAVES) if multiscatter else [0]                # tau = 0: every exp is 1
-    energy = sum(cm.OCTAVE_A ** k * 4 * math.pi * rc.phase(fr, cos, cm.OCTAVE_C ** k) for k in octaves)
+    if multiscatter:                                                    # tau = 0: every exp is 1
+        weights = [fr.octave_scattering ** k for k in range(cm.OCTAVES)]
+        energy = sum(w * 4 * math.pi * rc.phase(fr, cos, fr.octave_eccentricity ** k)
+                     for k, w in enumerate(weights)) / sum(weights)
+    else:
+        energy = 4 * math.pi * rc.phase(fr, cos, 1.0)
     powder = 1 + (1 - np.exp(-2 * rho) - 1) * (0.5 - 0.5 * cos)
     h = np.array([0.25, 0.75])[:, None]
     ambient = np.array(fr.ambient_base) * (1 - h) + np.array(fr.ambient_top) * h

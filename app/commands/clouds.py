@@ -67,6 +67,8 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     reg.add_cvar(Cvar("r_cloudIntegration", str, defaults.integration,
                       "energy: exp(-sigma dt) per step (converges); seed: the seed's density-as-alpha sum",
                       choices=INTEGRATIONS, archive=True))
+    reg.add_cvar(Cvar("r_cloudFurnace", bool, defaults.furnace,
+                      "white furnace test: sky and ambient 1 everywhere, no ground (with direct 0 the clouds vanish)"))
     state.files = SceneFiles(partial(load, ctx), partial(save, ctx), (".json",), clouds_scene.FORMAT,
                              new=partial(clouds_reset, ctx))
     COMMANDS.register(reg, ctx, checks)
@@ -257,6 +259,6 @@ def render_settings(console: Console, state: CloudsWorkspace) -> CloudRenderSett
     cvars = console.registry.cvars
     return CloudRenderSettings(
         steps=cvars["r_cloudSteps"].value, downsample=cvars["r_cloudDownsample"].value,
-        integration=cvars["r_cloudIntegration"].value,
+        integration=cvars["r_cloudIntegration"].value, furnace=bool(cvars["r_cloudFurnace"].value),
         **{field: bool(cvars[name].value) for name, field, _label, _text in SWITCHES})
 

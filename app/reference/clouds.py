@@ -18,10 +18,10 @@ import numpy as np
 from app.model.clouds import scene as cm
 from app.model.clouds.scene import CloudParams, CloudTextures, CloudView, Frame
 from app.reference.clouds_medium import (CENTRE, R0, R1, density, f64, height, hg, light, light_lookups, phase,
-                                         sample2d, sample3d, weather)
+                                         powder, sample2d, sample3d, sun_energy, weather)
 
 __all__ = ["Image", "render", "sample2d", "sample3d", "ray_directions", "segment", "density", "light", "hg",
-           "phase", "march", "cirrus", "background", "steps_for", "height"]
+           "phase", "sun_energy", "powder", "march", "cirrus", "background", "steps_for", "height"]
 
 R = cm.PLANET_RADIUS
 RC = cm.PLANET_RADIUS + cm.CIRRUS_ALTITUDE
@@ -166,7 +166,10 @@ def cirrus(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: np.nd
 
 def background(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray]:
-    """(rgb (N, 3), lookups (N,)): the hazed ground where the ray hits it, else the sky with the sun."""
+    """(rgb (N, 3), lookups (N,)): the hazed ground where the ray hits it, else the sky with the sun; in the
+    white furnace 1 everywhere."""
+    if frame.furnace:
+        return np.ones((len(d), 3)), np.zeros(len(d), dtype=np.int64)
     sun = np.array(frame.sun_dir)
     cos = d @ sun
     zenith, horizon, sun_light = np.array(frame.sky_zenith), np.array(frame.sky_horizon), np.array(frame.sun_light)
@@ -200,10 +203,13 @@ def background(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: n
 
 def render(params: CloudParams, view: CloudView, textures: CloudTextures, size: tuple[int, int] = (96, 54),
            steps: int = 256, integration: str = "energy", wind_time: float = 0.0, blend: float = 1.0,
-           early_exit: bool = False, jitter: np.ndarray | None = None) -> Image:
-    """The reference image: clouds (layer and cirrus) over the ground or sky, clamped to 0..1."""
+           early_exit: bool = False, jitter: np.ndarray | None = None, furnace: bool = False) -> Image:
+    """The reference image: clouds (layer and cirrus) over the ground or sky, clamped to 0..1; `furnace`: in the
+    white furnace's unit environment (app.model.clouds.scene.furnace)."""
     width, height_ = size
     fr = cm.frame(params, view, wind_time, blend)
+    if furnace:
+        fr = cm.furnace(fr)
     tex = f64(textures)
     d = ray_directions(fr, width, height_).reshape(-1, 3)
     t0, t1, has, t_ground = segment(fr, d)

@@ -16,7 +16,8 @@ GROUPS = (
     ("Coverage and shape", ("coverage", "density", "shape_scale", "detail_scale", "shape_min", "shape_max",
                             "detail_modifier", "curl_scale", "curl_amount", "weather_scale")),
     ("High clouds", ("high_coverage", "high_coverage_scale", "high_scale")),
-    ("Light", ("ambient", "direct", "hg_forward", "hg_back", "light_step", "cone_radius")),
+    ("Light", ("ambient", "direct", "hg_forward", "hg_back", "hg_back_weight", "light_step", "cone_radius",
+               "octave_scattering", "octave_extinction", "octave_eccentricity")),
     ("Wind", ("wind_speed", "wind_dir", "weather_wind_speed", "weather_wind_dir", "high_wind_speed", "high_wind_dir",
               "time_scale")),
 )
@@ -114,6 +115,10 @@ class CloudsPanel(QWidget):
         self.light_samples.addItems(["6", "30"])
         self.light_samples.currentTextChanged.connect(lambda n: self._send(f"clouds.set light_samples {n}"))
         noise.addRow("Light samples", self.light_samples)
+        self.phase = QComboBox(toolTip=PARAM["phase_max"].text)
+        self.phase.addItems(["mix", "max"])  # phase_max 0, 1
+        self.phase.currentIndexChanged.connect(lambda i: self._send(f"clouds.set phase_max {i}"))
+        noise.addRow("Phase", self.phase)
         layout.addWidget(QLabel("Drag: look around · wheel: altitude (through the layer and above it)"))
         layout.addStretch(1)
         self.sync()
@@ -152,7 +157,8 @@ class CloudsPanel(QWidget):
         self.elevation.show_value(min(max(view.sun_elevation, -10.0), 90.0))
         widgets = [(self.downsample, lambda w: w.setCurrentIndex(cvars["r_cloudDownsample"].value - 1)),
                    (self.integration, lambda w: w.setCurrentText(cvars["r_cloudIntegration"].value)),
-                   (self.light_samples, lambda w: w.setCurrentText(str(params.light_samples)))]
+                   (self.light_samples, lambda w: w.setCurrentText(str(params.light_samples))),
+                   (self.phase, lambda w: w.setCurrentIndex(params.phase_max))]
         widgets += [(box, lambda w, n=name: w.setChecked(bool(cvars[n].value if n in cvars else getattr(params, n))))
                     for name, box in self.checks.items()]
         for widget, show in widgets:

@@ -20,7 +20,7 @@ import numpy as np
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
-from app.model.clouds.scene import CloudRenderSettings, Frame
+from app.model.clouds.scene import CloudRenderSettings, Frame, furnace
 
 # The order in which reprojection traces the pixels of a d x d block, one a frame (index = x + d y), each
 # frame's pixel far from the last ones: Bayer's for 2 and Guerrilla's 4x4, a dispersed one for 3.
@@ -98,7 +98,7 @@ def reprojects(settings: CloudRenderSettings) -> bool:
 
 
 def uniforms(frame: Frame, settings: CloudRenderSettings, aspect: float, frame_index: int) -> dict:
-    values = {f"u_{name}": value for name, value in asdict(frame).items()}
+    values = {f"u_{name}": value for name, value in asdict(furnace(frame) if settings.furnace else frame).items()}
     values.update(u_aspect=aspect, u_steps=settings.steps, u_seed_integration=int(settings.integration == "seed"),
                   u_early_exit=int(settings.early_exit), u_big_steps=int(settings.big_steps),
                   u_light_skip=int(settings.light_skip), u_detail_skip=int(settings.detail_skip),

@@ -27,8 +27,7 @@ FAR_LIGHT_STEPS = 32.0         # the far light sample, in light steps beyond the
 FAR_WEIGHT = 3.0               # ... and the light steps it stands for
 LONG_LIGHT_SAMPLES = 30        # light_samples 30: the cone, then 25 samples 4 light steps apart
 LONG_SPACING = 4.0
-OCTAVES = 3                    # multiple scattering (Wrenninge): octave i scales by a^i, b^i, c^i
-OCTAVE_A = OCTAVE_B = OCTAVE_C = 0.5
+OCTAVES = 3                    # multiple scattering (Wrenninge): octave i scales by a^i, b^i, c^i (the octave_* params)
 GROUND_SHADOW_SAMPLES = 8      # density samples along the sun ray through the layer above a ground point
 # The seed's cloud-type height profiles (its camera prefab's gradients): smoothstep(x, y) - smoothstep(z, w)
 # of the height fraction, stratus / stratocumulus / cumulus at type 0 / 0.5 / 1.
@@ -79,8 +78,12 @@ class CloudParams:
     direct: float = _param(1.0, 0.0, 1.5, "sun light factor")
     hg_forward: float = _param(0.54, 0.0, 0.99, "Henyey-Greenstein forward lobe g")
     hg_back: float = _param(0.5, 0.0, 0.99, "Henyey-Greenstein back lobe g (used as -g)")
+    hg_back_weight: float = _param(0.5, 0.0, 1.0, "the back lobe's weight in the phase, the forward's 1 minus it")
     light_step: float = _param(48.0, 1.0, 200.0, "light march step length, metres")
     cone_radius: float = _param(0.4, 0.0, 2.0, "light cone radius, in light steps")
+    octave_scattering: float = _param(0.5, 0.0, 1.0, "multiple scattering: octave i's weight a^i (a <= b)")
+    octave_extinction: float = _param(0.5, 0.0, 1.0, "multiple scattering: octave i's optical depth to the sun x b^i")
+    octave_eccentricity: float = _param(0.5, 0.0, 1.0, "multiple scattering: octave i's phase g x c^i")
     wind_speed: float = _param(15.9, 0.0, 200.0, "low cloud (noise) wind speed, m/s")
     wind_dir: float = _param(-22.4, -360.0, 360.0, "low cloud wind direction, degrees")
     weather_wind_speed: float = _param(25.0, 0.0, 200.0, "weather map wind speed, m/s")
@@ -95,6 +98,8 @@ class CloudParams:
     light_samples: int = _param(6, 6, 30,
                                 "light march samples: 6 (5 cone + 1 far) or 30 (clouds shadow each other)", (6, 30))
     multiscatter: int = _param(1, 0, 1, "multiple scattering by octaves (0: the seed's double Beer)")
+    phase_max: int = _param(0, 0, 1, "phase: 0 the two lobes' normalised mix, 1 the seed's max of them (makes "
+                                     "light; for comparison)", (0, 1))
     ground_shadows: int = _param(1, 0, 1, "cloud shadows on the ground")
 
     def with_value(self, name: str, value: float) -> "CloudParams":
@@ -107,6 +112,9 @@ class CloudParams:
         out = replace(self, **checked)
         if out.shape_min >= out.shape_max:
             raise ParamError("shape_min must stay below shape_max")
+        if out.octave_scattering > out.octave_extinction:
+            raise ParamError("octave_scattering must not exceed octave_extinction (Wrenninge's a <= b: an octave "
+                             "would scatter more light than it extinguishes)")
         return out
 
     def values(self) -> dict[str, float]:
@@ -197,6 +205,11 @@ class Frame:
     sky_horizon: tuple
     g_forward: float
     g_back: float             # negative: the back lobe
+    back_weight: float        # the back lobe's weight in the phase's mix (the forward's is 1 - back_weight)
+    phase_max: int            # 1: the seed's max of the two lobes instead of their mix
+    octave_scattering: float  # Wrenninge's a, b, c (app.model.clouds.scene.OCTAVES octaves)
+    octave_extinction: float
+    octave_eccentricity: float
     extinction: float         # sigma_t per metre per unit cloud sample
     shape_freq: float         # texture repeats per metre
     detail_freq: float
@@ -223,6 +236,7 @@ class Frame:
     multiscatter: int
     ground_shadows: int
     blend: float              # weight of the new weather map, 0..1
+    furnace: int = 0          # 1: the white furnace's unit environment (furnace(), a test of energy conservation)
 
 
 def _wind(speed: float, deg: float) -> tuple[float, float]:
@@ -255,7 +269,9 @@ def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: f
         ambient_top=tuple(c * ambient for c in CLOUD_TOP_COLOR),
         sky_zenith=tuple(c * sky for c in SKY_ZENITH),
         sky_horizon=tuple(c * sky for c in _lerp3(sun_color, SKY_HORIZON, 0.5 + 0.5 * fade)),
-        g_forward=params.hg_forward, g_back=-params.hg_back * fade ** 3,
+        g_forward=params.hg_forward, g_back=-params.hg_back * fade ** 3, back_weight=params.hg_back_weight,
+        phase_max=params.phase_max, octave_scattering=params.octave_scattering,
+        octave_extinction=params.octave_extinction, octave_eccentricity=params.octave_eccentricity,
         extinction=EXTINCTION * params.density, shape_freq=noise, detail_freq=noise * params.detail_scale,
         curl_freq=noise * params.curl_scale, curl_amount=150.0 + params.curl_amount, weather_freq=weather,
         high_coverage_freq=params.high_coverage_scale * params.weather_scale * 0.001,
@@ -270,6 +286,14 @@ def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: f
         light_step=params.light_step, cone_radius=params.cone_radius, light_samples=params.light_samples,
         shape_noise=params.shape_noise, detail_noise=params.detail_noise, curl_noise=params.curl_noise,
         multiscatter=params.multiscatter, ground_shadows=params.ground_shadows, blend=blend)
+
+
+def furnace(fr: Frame) -> Frame:
+    """The white furnace: the frame under a uniform environment of radiance 1 (the sky 1 in every direction,
+    no ground, the ambient 1), the sun left as it is (`direct` 0 turns it off). Clouds of albedo 1 that conserve
+    energy vanish in it with the sun off (docs/clouds.md, "Energy"); r_cloudFurnace shows it."""
+    one = (1.0, 1.0, 1.0)
+    return replace(fr, ambient_base=one, ambient_top=one, sky_zenith=one, sky_horizon=one, furnace=1)
 
 
 @dataclass(frozen=True)
@@ -300,4 +324,5 @@ class CloudRenderSettings:
     detail_skip: bool = True      # detail and curl only where the shape is above 0, nothing where coverage is 0
     reproject: bool = True        # trace one pixel of each downsample^2 block a frame, reproject the rest
     debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
+    furnace: bool = False         # the white furnace test's environment (furnace()), not the scene's sky
     integration: str = "energy"   # or "seed"
