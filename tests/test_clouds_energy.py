@@ -33,11 +33,11 @@ TOLERANCE = 2 / 255
 
 
 def panel_frames():
-    """Frames over the panel's ranges of every parameter the phase and the octaves read, at three suns (the sun's
+    """Frames over the panel's ranges of every parameter the phase and the octaves read, at four suns (the sun's
     height weakens the back lobe): each range's ends and a middle value."""
     ends = {name: (PARAM[name].lo, PARAM[name].default, PARAM[name].hi)
             for name in ("hg_forward", "hg_back", "hg_back_weight", "octave_eccentricity")}
-    for values in itertools.product(*ends.values(), (5.0, 25.0, 45.0)):
+    for values in itertools.product(*ends.values(), (-5.0, 5.0, 25.0, 45.0)):
         params = CloudParams(**dict(zip(ends, values[:-1])))
         yield cm.frame(params, CloudView(sun_elevation=values[-1]))
 
@@ -136,7 +136,8 @@ def test_the_gpu_computes_the_references_phase_and_sun_energy(probe):
             gpu = probe(f, np.stack([cos, tau, rho, np.full_like(cos, scale)], 1))
             cpu_phase = rc.phase(f, cos, np.float32(scale))
             np.testing.assert_allclose(gpu[:, 0], cpu_phase, rtol=2e-5, atol=1e-7)
-            np.testing.assert_allclose(gpu[:, 1], rc.sun_energy(f, tau, rho, cos), rtol=1e-4, atol=1e-6)
+            # powder's 1 - exp(-2 rho) loses float32 digits at tiny rho (3e-4 relative at rho 1e-4)
+            np.testing.assert_allclose(gpu[:, 1], rc.sun_energy(f, tau, rho, cos), rtol=1e-3, atol=1e-6)
             if not phase_max:
                 weights = clouds_energy.sphere_nodes()[1]
                 assert 2 * math.pi * (gpu[:, 0] * weights).sum() == pytest.approx(1.0, abs=1e-4)
