@@ -50,7 +50,12 @@ class Lights3DPanel(QWidget):
         self._syncing = False
         self._rows: list[tuple[str, int]] = []  # the list's rows: (kind, index)
         layout = QVBoxLayout(self)
+        for box in (self._items_box(), self._object_box(), self._light_box(), self._lighting_box()):
+            layout.addWidget(box)
+        layout.addStretch(1)
+        self.sync()
 
+    def _items_box(self) -> QGroupBox:
         items_box = QGroupBox("Scene")
         items = QVBoxLayout(items_box)
         self.list = QListWidget()
@@ -71,8 +76,9 @@ class Lights3DPanel(QWidget):
         self.remove.clicked.connect(self._remove)
         buttons.addWidget(self.remove)
         items.addLayout(buttons)
-        layout.addWidget(items_box)
+        return items_box
 
+    def _object_box(self) -> QGroupBox:
         self.object_box = QGroupBox("Object")
         of = QFormLayout(self.object_box)
         self.o_position = _Vector(lambda xyz: self._object("object.move {i} " + xyz))
@@ -84,8 +90,9 @@ class Lights3DPanel(QWidget):
             of.addRow("size", box)  # named by kind in sync
         self.o_colour = ColorButton("Object colour", lambda c: self._object("object.set {i} colour " + rgb_words(c)))
         of.addRow("Colour", self.o_colour)
-        layout.addWidget(self.object_box)
+        return self.object_box
 
+    def _light_box(self) -> QGroupBox:
         self.light_box = QGroupBox("Light")
         lf = QFormLayout(self.light_box)
         self.l_kind = _combo(LIGHT_KINDS)
@@ -107,8 +114,9 @@ class Lights3DPanel(QWidget):
                               ("Range", self.l_range), ("Falloff", self.l_falloff), ("Spot angle °", self.l_angle),
                               ("Shadow", self.l_shadow)):
             lf.addRow(label, widget)
-        layout.addWidget(self.light_box)
+        return self.light_box
 
+    def _lighting_box(self) -> QGroupBox:
         lighting = QGroupBox("Lighting and shadow maps")
         sf = QFormLayout(lighting)
         self.ambient = ColorButton("Ambient colour", lambda c: self._send("lights3d.set ambient " + rgb_words(c)))
@@ -125,9 +133,7 @@ class Lights3DPanel(QWidget):
         for label, widget in (("Ambient", self.ambient), ("Shininess", self.shininess), ("Specular", self.specular),
                               ("Map size", self.map_size), ("PCF taps", self.pcf), ("Map bias", self.bias)):
             sf.addRow(label, widget)
-        layout.addWidget(lighting)
-        layout.addStretch(1)
-        self.sync()
+        return lighting
 
     # ---- sending -----------------------------------------------------------------------------------
 
