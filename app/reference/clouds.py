@@ -35,7 +35,7 @@ BLOCK = 1 << 16                         # (ray, step) samples evaluated at once
 
 @dataclass
 class Image:
-    rgb: np.ndarray         # (H, W, 3) final colour in 0..1, row 0 at the top
+    rgb: np.ndarray         # (H, W, 3) linear radiance, unclamped, row 0 at the top
     clouds: np.ndarray      # (H, W, 4) premultiplied clouds (layer and cirrus) before the background
     samples: np.ndarray     # (H, W) texture lookups per pixel
 
@@ -201,7 +201,8 @@ def background(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: n
 def render(params: CloudParams, view: CloudView, textures: CloudTextures, size: tuple[int, int] = (96, 54),
            steps: int = 256, integration: str = "energy", wind_time: float = 0.0, blend: float = 1.0,
            early_exit: bool = False, jitter: np.ndarray | None = None) -> Image:
-    """The reference image: clouds (layer and cirrus) over the ground or sky, clamped to 0..1."""
+    """The reference image: clouds (layer and cirrus) over the ground or sky, as linear radiance (the GPU's HDR
+    frame before its tone map)."""
     width, height_ = size
     fr = cm.frame(params, view, wind_time, blend)
     tex = f64(textures)
@@ -217,7 +218,7 @@ def render(params: CloudParams, view: CloudView, textures: CloudTextures, size: 
     else:
         clouds = layer + (1 - layer[:, 3:]) * high
     bg, bg_count = background(fr, tex, d, t_ground)
-    rgb = np.clip(clouds[:, :3] + (1 - clouds[:, 3:]) * bg, 0.0, 1.0)
+    rgb = clouds[:, :3] + (1 - clouds[:, 3:]) * bg
     samples = samples + high_count + bg_count
     return Image(rgb.reshape(height_, width, 3), clouds.reshape(height_, width, 4),
                  samples.reshape(height_, width))

@@ -8,7 +8,9 @@ Passes per frame (docs/clouds.md, "Optimisations"):
    (reprojected through a turn; clamped to what was traced around them while the clock runs), or this
    frame's buffer, bilinear, where the last frame has nothing;
 3. taa (without reprojection): the history, clamped to this frame's 3x3 neighbourhood, blended with it;
-4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground."""
+4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground, into a float
+   target: linear radiance, unclamped;
+5. tone map (app/gl/clouds/tone_map.py): exposure, the tone curve and sRGB encoding into the output."""
 from __future__ import annotations
 
 import math
@@ -17,6 +19,7 @@ from dataclasses import asdict, replace
 import moderngl
 import numpy as np
 
+from app.gl.clouds.tone_map import ToneMap
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
@@ -113,6 +116,7 @@ class CloudRenderer:
         self.units = TextureUnits()  # every pass's samplers: the noise stays bound while each pass binds its own
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._targets: dict[str, Target] = {}
+        self.tone_map = ToneMap(ctx, shaders)
         self.frame_index = 0
         self._key = None           # what the histories were made with: all but the clock and the turn
         self._basis = None         # the last frame's camera basis: a turn reprojects through it
@@ -124,6 +128,7 @@ class CloudRenderer:
         self.reprojected_frames = 0
         self.last_lookups: Target | None = None  # the lookups of the last frame's cloud buffer
         self.last_clouds: moderngl.Texture | None = None  # the buffer the last composite read
+        self.last_hdr: moderngl.Texture | None = None     # the last frame's linear radiance (the tone map's input)
 
     # ---- targets ------------------------------------------------------------------------------------
 
@@ -165,7 +170,7 @@ class CloudRenderer:
         clock = (frame.wind_offset, frame.weather_offset, frame.high_offset, frame.blend)
         key = (replace(frame, forward=None, right=None, up=None, wind_offset=None, weather_offset=None,
                        high_offset=None, blend=None),
-               replace(settings, debug_samples=False), size, weather.version)
+               replace(settings, debug_samples=False, tone=None), size, weather.version)
         history = 0 if key != self._key else 1 if basis == self._basis else 2
         self._clock_moved = clock != self._clock
         values.update(u_buffer=bsize)
@@ -176,9 +181,13 @@ class CloudRenderer:
         else:
             self.taa_frames = 0
         self.last_clouds = clouds
-        self._draw("clouds_composite", fbo, values,
+        hdr = None if settings.debug_samples else self._target("hdr", size, (4,))  # the lookups view: no light
+        self._draw("clouds_composite", fbo if hdr is None else hdr.fbo, values,
                    **self.units.bind(u_clouds=clouds, u_lookups=self.last_lookups.textures[1]),
                    u_size=tuple(map(float, size)), u_debug=int(settings.debug_samples))
+        if hdr is not None:
+            self.last_hdr = hdr.textures[0]
+            self.tone_map.apply(self.last_hdr, fbo, settings.tone, restart=history == 0)
         self._key, self._basis, self._clock = key, basis, clock
         self.frame_index += 1
 
@@ -238,8 +247,11 @@ class CloudRenderer:
 
     def settling(self, settings: CloudRenderSettings) -> bool:
         """Whether more frames of an unchanged scene still change the image (the histories fill): TAA has
-        something to average only while the jitter moves; reprojection fills its blocks in d^2 frames."""
+        something to average only while the jitter moves; reprojection fills its blocks in d^2 frames; an
+        automatic exposure adapts to the frame's light."""
         averaging = settings.taa and settings.jitter
+        if not settings.debug_samples and self.tone_map.settling():
+            return True
         if reprojects(settings):
             return self.reprojected_frames < (TAA_FRAMES if averaging else settings.downsample ** 2)
         return averaging and self.taa_frames < TAA_FRAMES

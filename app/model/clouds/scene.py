@@ -10,6 +10,8 @@ import math
 from typing import TYPE_CHECKING, get_type_hints
 from dataclasses import dataclass, field, fields, replace
 
+from app.model.clouds.exposure import ToneSettings
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -301,3 +303,4 @@ class CloudRenderSettings:
     reproject: bool = True        # trace one pixel of each downsample^2 block a frame, reproject the rest
     debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
     integration: str = "energy"   # or "seed"
+    tone: ToneSettings = ToneSettings()  # exposure and the tone curve (app/model/clouds/exposure.py)
