@@ -14,16 +14,19 @@ from app.console.command_set import CommandSet, Context
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import SCRIPTS, CommandError, Cvar
+from app.commands import volume_labels
+from app.commands.volume_args import check_axis as _axis, check_brush, check_rgba as _rgba, round_brush
+from app.commands.volume_args import check_tolerance as _tolerance, stroke_points as _points
 from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
                                    write_volume)
 from app.model.camera3d import OrbitCamera
 from app.model.volume import voxels as voxels_model
-from app.model.volume.painting import MAX_COORD
+from app.model.volume.labels import Labels
 from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume.samples import SAMPLES, make
 from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
                                       default_window, value_range)
-from app.model.volume.voxels import AXES, MAX_SIDE, transparent
+from app.model.volume.voxels import AXES, transparent
 from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -37,33 +40,6 @@ TRACER_CVARS = (
     ("cl_distanceScale", float, 1.0, 0.1, 16.0, "distance-function step multiplier"),
     ("cl_sampleRange", float, 1.0, 0.25, 8.0, "normal sampling radius, in voxels"))
 QUALITY_LADDER = (32, 64, 128, 256, 512)
-
-
-def _rgba(r: int, g: int, b: int, a: int) -> tuple[int, int, int, int]:
-    rgba = (r, g, b, a)
-    if not all(0 <= c <= 255 for c in rgba):
-        raise CommandError(f"colour components must be 0..255, got {' '.join(map(str, rgba))}")
-    return rgba
-
-
-def _axis(axis: str) -> str:
-    if axis not in AXES:
-        raise CommandError(f"axis must be x, y or z, got {axis!r}")
-    return axis
-
-
-def _tolerance(tolerance: int) -> int:
-    if not 0 <= tolerance <= 255:
-        raise CommandError(f"fill tolerance must be within 0..255, got {tolerance}")
-    return tolerance
-
-
-def _points(coords: list[int]) -> list[tuple[int, int]]:
-    if not coords or len(coords) % 2:
-        raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
-    if max(map(abs, coords)) > MAX_COORD:
-        raise CommandError(f"stroke points must be within -{MAX_COORD}..{MAX_COORD}")
-    return list(zip(coords[0::2], coords[1::2]))
 
 
 def _window_text(transfer: TransferFunction) -> str:
@@ -91,6 +67,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
     reg.add_cvar(Cvar("fill_tolerance", int, 0, "The painter's fill takes in voxels whose every channel is within "
                       "this of the clicked one's (0: one exact colour)", min=0, max=255, archive=True))
+    volume_labels.add_cvars(reg)
     console.batch_listeners.append(ScriptSteps(state))
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
     # scalar volume); an autosave of a scalar volume keeps its window in a .nrrd; File > New makes an empty volume
@@ -99,6 +76,7 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
                              new=partial(new_same_size, ctx), replacing=("new", "sample"), verbs=("load", "save"),
                              keeping=partial(kept_suffix, ctx))
     COMMANDS.register(console.registry, ctx, checks)
+    volume_labels.COMMANDS.register(console.registry, ctx, checks)
 
 
 class ScriptSteps:
@@ -120,13 +98,14 @@ class ScriptSteps:
 
 
 def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: TransferFunction | None = None,
-             loaded: bool = True) -> None:
+             loaded: bool = True, labels: Labels | None = None) -> None:
     """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
-    the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over.
-    A loaded volume (a file, a sample) opens the painter on its middle slice; a new one keeps the slice."""
+    the default window, with `labels` over them (its labels file's), as the undo step `step`. `data` is the
+    command's own (a fresh array) to hand over. A loaded volume (a file, a sample) opens the painter on its middle
+    slice; a new one keeps the slice."""
     state, volume = ctx.state, ctx.state.volume
     if data.ndim == 3:
-        volume.replace_scalars(data, transfer, name=step, copy=False)
+        volume.replace_scalars(data, transfer, name=step, copy=False, labels=labels)
     else:
         volume.replace(data, step)
     if loaded:
@@ -139,21 +118,6 @@ def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: Transfe
                   "percentiles {:g}..{:g} of the values above the minimum".format(*PERCENTILES))
         ctx.console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} ({chosen}), "
                           f"{scalars.transfer.colormap}; vol.window and vol.colormap change it")
-
-
-def _edit(ctx: Ctx, change, *args, **kwargs) -> None:
-    """A voxel edit; on a scalar volume it bakes the window into the colours, which the user should know."""
-    volume = ctx.state.volume
-    scalars = volume.voxels.scalars
-    change(*args, **kwargs)
-    if scalars is None or volume.voxels.scalars is not None:
-        return
-    if volume.history.undo_depth:  # the edit's step, holding the scalars
-        ctx.console.print("the edit baked the window into the colours: the scalars are set aside; undo it to "
-                          "change the window again")
-    else:
-        ctx.console.print(f"the edit baked the window into the colours, and the scalars ({scalars.nbytes >> 20} MiB) "
-                          "do not fit the undo history: load the file again to window it")
 
 
 def volume_files(ctx: Ctx, prefix: str) -> list[str]:
@@ -179,7 +143,10 @@ def load(ctx: Ctx, path: str) -> str:
         read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES)  # the model's limit, before reading
     except FormatError as exc:
         raise CommandError(str(exc)) from None
-    _replace(ctx, read.data, f"loaded {source}", "Load Volume", read.transfer)
+    labels = volume_labels.beside(ctx, source, read.data.shape) if read.data.ndim == 3 else None
+    _replace(ctx, read.data, f"loaded {source}", "Load Volume", read.transfer, labels=labels)
+    if labels is not None:
+        volume_labels.say_loaded(ctx, source)
     return str(source)
 
 
@@ -198,6 +165,7 @@ def write(ctx: Ctx, path: str) -> None:
     try:
         if _as_scalars(ctx, path):
             write_volume(path, voxels.scalars.values, voxels.scalars.transfer)
+            volume_labels.write_beside(voxels.labels, path)
         else:
             write_volume(path, voxels.data)
     except FormatError as exc:
@@ -205,7 +173,8 @@ def write(ctx: Ctx, path: str) -> None:
 
 
 @COMMANDS.command("save", "path", "Save the 3D raster image (format from the name; atomically); a scalar volume "
-                  "saves its scalars to .npy, .nrrd and .tif, its colours to .r3 and image series", recorded=False,
+                  "saves its scalars to .npy, .nrrd and .tif (and its labels beside them, name.seg.nrrd), its "
+                  "colours to .r3 and image series", recorded=False,
                   completer=volume_files, allow=SCRIPTS)
 def save(ctx: Ctx, path: str) -> str:
     target = files.writable(ctx.console, path)
@@ -225,6 +194,7 @@ def save(ctx: Ctx, path: str) -> str:
     else:
         say(f"saved {target}: the colours of window {_window_text(scalars.transfer)} (the scalars "
             "are not kept in the file)")
+    volume_labels.say_saved(ctx, target, _as_scalars(ctx, target))
     return str(target)
 
 
@@ -259,26 +229,24 @@ def voxel_args(ctx: Ctx, x: int, y: int, z: int, r: int, g: int, b: int, a: int)
 
 @COMMANDS.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel", allow=SCRIPTS)
 def voxel(ctx: Ctx, *args: int) -> None:
-    _edit(ctx, ctx.state.volume.paint.set_voxel, *voxel_args(ctx, *args))
+    ctx.state.volume.paint.set_voxel(*voxel_args(ctx, *args))
 
 
 @COMMANDS.check("stroke", "volume")
 def stroke_args(ctx: Ctx, axis, index, size, r, g, b, a, coords):
-    ctx.state.volume.voxels.slice(_axis(axis), index)  # refuses an index past the depth
-    if not 1 <= size <= MAX_SIDE:
-        raise CommandError(f"brush size must be within 1..{MAX_SIDE}, got {size}")
+    check_brush(ctx.state.volume.voxels, axis, index, size)
     return axis, index, size, _rgba(r, g, b, a), _points(coords)
 
 
 def _round_brush(ctx: Ctx) -> bool:
-    return ctx.console.registry.cvars["brush_round"].value
+    return round_brush(ctx.console)
 
 
 @COMMANDS.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                   "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)",
                   allow=SCRIPTS)
 def stroke(ctx: Ctx, *args) -> None:
-    _edit(ctx, ctx.state.volume.paint.stroke, *stroke_args(ctx, *args), round_brush=_round_brush(ctx))
+    ctx.state.volume.paint.stroke(*stroke_args(ctx, *args), round_brush=_round_brush(ctx))
 
 
 @COMMANDS.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
@@ -301,10 +269,9 @@ def fill_args(ctx: Ctx, axis: str, index: int, u: int, v: int, r: int, g: int, b
 
 @COMMANDS.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int [tolerance:int]",
                   "Flood-fill the region around (x, y) within a slice whose every channel is within tolerance "
-                  "(0..255, default 0: one exact colour) of the colour at (x, y); on a scalar volume, of the "
-                  "window's colours", allow=SCRIPTS)
+                  "(0..255, default 0: one exact colour) of the colour at (x, y)", allow=SCRIPTS)
 def fill(ctx: Ctx, *args) -> None:
-    _edit(ctx, ctx.state.volume.paint.fill, *fill_args(ctx, *args))
+    ctx.state.volume.paint.fill(*fill_args(ctx, *args))
 
 
 @COMMANDS.check("rotate")
@@ -325,7 +292,7 @@ def rotate(ctx: Ctx, axis: str) -> None:
 
 @COMMANDS.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)", allow=SCRIPTS)
 def smooth(ctx: Ctx) -> None:
-    _edit(ctx, ctx.state.volume.paint.smooth)
+    ctx.state.volume.paint.smooth()
 
 
 @COMMANDS.check("pick", "volume")
@@ -333,10 +300,15 @@ def picked(ctx: Ctx, x: int, y: int, z: int) -> tuple[int, int, int, int]:
     return ctx.state.volume.voxels.pick(x, y, z)
 
 
-@COMMANDS.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour", allow=SCRIPTS)
+@COMMANDS.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour (on a scan, "
+                  "its label the brush label)", allow=SCRIPTS)
 def pick(ctx: Ctx, x: int, y: int, z: int) -> None:
     view = ctx.state.view
-    view.brush = picked(ctx, x, y, z)
+    colour = picked(ctx, x, y, z)
+    if ctx.state.volume.voxels.labels is not None:
+        volume_labels.pick_label(ctx, x, y, z)
+        return
+    view.brush = colour
     ctx.console.print(f"brush colour {' '.join(map(str, view.brush))}")
 
 
@@ -532,4 +504,5 @@ def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:
     cvars, view = console.registry.cvars, state.view
     return TraceSettings(mode=view.mode, steps=cvars["cl_steps"].value, shadow_steps=cvars["cl_shadowSteps"].value,
                          sample_range=cvars["cl_sampleRange"].value, distance_scale=cvars["cl_distanceScale"].value,
-                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]))
+                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]),
+                         label_opacity=cvars[volume_labels.OPACITY].value)

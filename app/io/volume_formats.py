@@ -388,7 +388,14 @@ def _nrrd_inflate(path: PathLike, f: BinaryIO, encoding: str, n: int) -> bytearr
 
 
 def _read_nrrd(path: PathLike, max_bytes: int) -> VolumeFile:
-    """Attached raw, gzip or bzip2 data; pynrrd parses the header, the payload is read here with bounds."""
+    header, array = read_nrrd(path, max_bytes)
+    return VolumeFile(_as_volume(array), _nrrd_transfer(path, header, array.dtype))
+
+
+def read_nrrd(path: PathLike, max_bytes: int) -> tuple[dict, np.ndarray]:
+    """The header (pynrrd's fields) and the array of a NRRD file of a volume's layout as the file holds it (its
+    type and byte order, numpy's C order; a scan's labels are read so). Attached raw, gzip or bzip2 data; pynrrd
+    parses the header, the payload is read here with bounds."""
     with _open(path, max_bytes) as f:
         lines = _nrrd_header_lines(path, f)
         with _library_errors(path, "NRRD header"):
@@ -408,10 +415,9 @@ def _read_nrrd(path: PathLike, max_bytes: int) -> VolumeFile:
         # that is numpy's C order (d, h, w, 4), what pynrrd's index_order='C' returns; 'F' would give (4, w, h, d).
         shape = tuple(int(n) for n in reversed(sizes))
         _check_array(path, shape, dtype, max_bytes)
-        transfer = _nrrd_transfer(path, header, dtype)
         n = math.prod(shape) * dtype.itemsize
         data = _read_exact(path, f, n) if encoding == "raw" else _nrrd_inflate(path, f, encoding, n)
-    return VolumeFile(_as_volume(np.frombuffer(data, dtype).reshape(shape)), transfer)
+    return header, np.frombuffer(data, dtype).reshape(shape)
 
 
 def _nrrd_transfer(path: PathLike, header: dict, dtype: np.dtype) -> TransferFunction | None:

@@ -61,3 +61,4 @@ class TraceSettings:
     slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
     shadow_offset: float = SHADOW_OFFSET
     eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
+    label_opacity: float = 0.5   # a scan's labels over it (r_labelOpacity; app/model/volume/labels.py)

@@ -67,7 +67,9 @@ class VolumeWorkspace(Workspace):
         self.clamp_slice()
 
     def version(self) -> tuple:
-        return self.volume.voxels.version, self.view.key()
+        labels = self.volume.voxels.labels
+        drawn = None if labels is None else (id(labels), labels.version, labels.colour_version)
+        return self.volume.voxels.version, drawn, self.view.key()
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
@@ -83,12 +85,15 @@ class VolumeWorkspace(Workspace):
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
-        snapshot file beside the demo, a scalar volume's scalars into an .npy and its window into commands."""
+        snapshot file beside the demo, a scalar volume's scalars into an .npy (its labels beside it) and its window
+        and label colours into commands."""
         v, scalars = self.view, self.volume.voxels.scalars
         if scalars is not None:
             t = scalars.transfer
             lines = [f"load {snapshot('.npy')}", f"vol.colormap {t.colormap}",
                      f"vol.window {t.low!r} {t.high!r}"]
+            lines += [f"label.color {n} {' '.join(map(str, rgb))}"
+                      for n, rgb in self.volume.voxels.labels.recoloured().items()]
         elif self.volume.voxels.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
