@@ -11,6 +11,7 @@ from scipy.ndimage import map_coordinates
 from app.model.volume import render_modes as rm
 from app.model.camera3d import OrbitCamera
 from app.model.volume.view import FLIP, box_extents, world_to_texture
+from app.reference.volume_labels import LabelLayer, over
 
 
 
@@ -168,8 +169,9 @@ def _phong(scene: Scene, t: np.ndarray, s: np.ndarray, view_dir: np.ndarray, mod
 
 def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: rm.Mode, steps: float,
            shadow_steps: int = 20, sample_range: float = 1.0, background=(0.0, 0.0, 0.0),
-           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET) -> np.ndarray:
-    """The image (height, width, 3), floats 0..1, top row first."""
+           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET,
+           labels: LabelLayer | None = None) -> np.ndarray:
+    """The image (height, width, 3), floats 0..1, top row first; a scan's `labels` laid over it."""
     w, h = size
     scene = Scene(data, sample_range, shadow_offset)
     inv = np.linalg.inv(camera.clip_from_world((w, h)))
@@ -186,8 +188,10 @@ def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: r
         d = dirs[rays]
         a = scene.to_texture(eye + d * near[rays, None])
         b = scene.to_texture(eye + d * far_t[rays, None])
-        out[rays] = _shade(scene, a, b, d, mode, steps, shadow_steps, np.asarray(background, float),
-                           [np.asarray(p, float) for p in lights])
+        out[rays], at = _shade(scene, a, b, d, mode, steps, shadow_steps, np.asarray(background, float),
+                               [np.asarray(p, float) for p in lights])
+        if labels is not None:
+            out[rays] = over(labels, out[rays], a, b, at, d)
     return out.reshape(h, w, 3)
 
 
@@ -199,11 +203,15 @@ def _translucent(scene: Scene, pos: np.ndarray, valid: np.ndarray, background: n
     return colour + (1.0 - alpha) * background
 
 
-def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.ndarray:
+def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> tuple[np.ndarray, np.ndarray]:
+    """The colours of rays a -> b, and how far along each its colour was found (1: all the way)."""
     pos, valid = _march(scene, a, b, steps)
     if mode.kind == "translucent":
-        return _translucent(scene, pos, valid, background)
+        return _translucent(scene, pos, valid, background), np.ones(len(a))
     hit, t, s, index = _first_hit(scene, a, pos, valid)
+    ab = b - a
+    with np.errstate(invalid="ignore", divide="ignore"):
+        at = np.where(hit, ((t - a) * ab).sum(-1) / (ab * ab).sum(-1), 1.0)
     out = np.tile(background, (len(a), 1))
     if mode.kind == "pure":
         out[hit] = s[hit, :3]
@@ -212,7 +220,7 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
             near_col = np.tile(background, (len(a), 1))
             near_col[nhit] = ns[nhit, :3]
             out = 0.5 * out + 0.5 * near_col
-        return out
+        return out, at
     if hit.any():
         shade = _phong(scene, t[hit], s[hit], d[hit], mode, lights, steps, shadow_steps, shadows=True)
         if mode.translucency:  # the surface's alpha over the mean of what lies behind it, its own sample on
@@ -225,7 +233,7 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
         if mode.reflections:
             shade = 0.75 * shade + 0.25 * _reflection(scene, t[hit], d[hit], steps, background)
         out[hit] = shade
-    return out
+    return out, at
 
 
 def _reflection(scene: Scene, t: np.ndarray, d: np.ndarray, steps: float, background: np.ndarray) -> np.ndarray:

@@ -10,6 +10,7 @@ from scipy.ndimage import distance_transform_edt
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
+from app.gl.volume.label_texture import LabelTexture
 from app.gl.volume.texture import VolumeTexture
 from app.model.volume.voxels import VolumeWatch, Voxels
 from app.model.volume import render_modes as rm
@@ -104,6 +105,7 @@ class RayTracer:
         self.shaders = shaders
         self.volume = VolumeTexture(ctx)
         self.distance = DistanceTexture(ctx)
+        self.labels = LabelTexture(ctx)  # a scan's labels, over whatever the mode draws
         # Trilinear with a transparent border: the volume floats in empty space, so a voxel on the box's face is
         # a surface with an outward normal, as one inside is (clamped to its edge, its gradient pointed inwards
         # and the voxel shaded black). The reference samples the same way.
@@ -147,6 +149,7 @@ class RayTracer:
         extent = np.array(box_extents(voxels.size), dtype="f4")
         uniforms = self._uniforms(voxels, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
+        uniforms.update(self.labels.uniforms(voxels.labels, settings.label_opacity, self.units))
         # one volume at two units, read through two samplers
         uniforms.update(self.units.bind(u_volume=self.volume.sync(voxels), u_nearest=self.volume.texture),
                         u_distance=self.units["u_distance"])
