@@ -19,6 +19,7 @@ from app.views.volume.slice_picker import SlicePicker
 from app.views.snowflake_panel import SnowflakePanel
 from app.views.snowflake_tool import SnowflakeTool
 from app.views.volume.tool import VolumeTool
+from app.commands.volume_labels import BRUSH_LABEL
 from app.console.registry import SCRIPTS
 from app.model.workspace import WorkspaceMapping
 
@@ -63,11 +64,21 @@ def volume_panel(window, state, tool) -> QWidget:
         colour = QColorDialog.getColor(QColor(*rgba), window, title, options)
         return colour if colour.isValid() else None
 
-    @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c)", recorded=False,
-                 allow=SCRIPTS)
+    @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c); on a scan, the brush's "
+                 "label from a menu", recorded=False, allow=SCRIPTS)
     def brush_colour() -> None:
-        if colour := colour_dialog("Brush colour", view.brush, alpha=True):
+        if state.volume.voxels.labels is not None:
+            painter.labels.open_menu()
+        elif colour := colour_dialog("Brush colour", view.brush, alpha=True):
             window.run(f"brush.color {colour.red()} {colour.green()} {colour.blue()} {colour.alpha()}")
+
+    @reg.command("ui.labelcolor", "", "Choose the colour of the brush's label in a dialog", recorded=False,
+                 allow=SCRIPTS)
+    def label_colour() -> None:
+        label = window.editor.console.registry.cvars[BRUSH_LABEL].value
+        labels = state.volume.voxels.require_labels()
+        if label and (colour := colour_dialog(f"Colour of label {label}", labels.colours[label], alpha=False)):
+            window.run(f"label.color {label} {colour.red()} {colour.green()} {colour.blue()}")
 
     @reg.command("ui.background", "", "Choose the 3D view's background colour (key c)", recorded=False, allow=SCRIPTS)
     def background() -> None:
