@@ -10,14 +10,10 @@ from collections import deque
 from dataclasses import dataclass
 from functools import reduce
 from itertools import islice
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from app.model.volume.scalars import Scalars, TransferFunction, colour
-
-if TYPE_CHECKING:
-    from app.model.volume.labels import Labels
 
 AXES = ("x", "y", "z")
 MAX_SIDE = 4096          # voxels a side; also the largest brush
@@ -169,7 +165,7 @@ class Voxels(ChangeRecord):
         super().__init__()
         self.data = own_rgba(data)
         self.scalars: Scalars | None = None
-        self.labels: Labels | None = None  # a scalar volume's, even before any is painted
+        self.labels = None  # a scalar volume's Labels (app/model/volume/labels.py), even before any is painted
 
     @property
     def size(self) -> tuple[int, int, int]:
@@ -213,8 +209,8 @@ class Voxels(ChangeRecord):
         """The label painted over a scan's voxel (0: none); None for an RGBA volume, which has no labels."""
         return None if self.labels is None else self.labels.at(self.array_index(x, y, z))
 
-    def require_labels(self) -> Labels:
-        """A scan's labels, or a VolumeError for an RGBA volume, whose colours are painted instead."""
+    def require_labels(self):
+        """A scan's Labels, or a VolumeError for an RGBA volume, whose colours are painted instead."""
         if self.labels is None:
             raise VolumeError("labels are painted over a scan (a 16-bit or float file); this volume is RGBA: paint "
                               "its colours (stroke, fill, voxel)")
