@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from app.model.volume.labels import DEFAULT_OPACITY
+
 THRESHOLD = 0.3      # a surface: the first sample whose intensity exceeds this (of 3)
 AMBIENT = 0.2        # the seed's 10-20 % ambient
 DIFFUSE = 0.85
@@ -61,4 +63,4 @@ class TraceSettings:
     slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
     shadow_offset: float = SHADOW_OFFSET
     eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
-    label_opacity: float = 0.5   # a scan's labels over it (r_labelOpacity; app/model/volume/labels.py)
+    label_opacity: float = DEFAULT_OPACITY  # a scan's labels over it (r_labelOpacity)
