@@ -34,17 +34,21 @@ def _mapped(scene: Scene3D) -> Scene3D:
 
 
 def hard_cases() -> tuple[HardCase, ...]:
-    """The issue's: a box 20,000 units off beside the default scene under a sun, the default spot widened to
-    89.9 degrees (up close, and seen whole from the default camera), the default point light moved 9,400 units
-    away (range 10,000: the most a light takes); and the default scene with a sun, each of its lights judged.
-    The camera is 250 units from the scene's middle but where said."""
+    """The issue's: a box 20,000 units off beside the default scene under a sun (and one 20,000 units up the sun's
+    rays, its shadow in view), the default spot widened to 89.9 degrees (up close, and seen whole from the default
+    camera), the default point light moved 9,400 units away (range 10,000: the most a light takes); and the
+    default scene with a sun, each of its lights judged. The camera is 250 units from the scene's middle but where
+    said."""
     default = _mapped(default_scene().add_light(SUN))
     away = np.array([0.5, 0.8, 0.33]) / np.linalg.norm([0.5, 0.8, 0.33])
     one = default_scene()
+    sun = np.asarray(SUN.direction)
     wide = _mapped(Scene3D(one.objects, (one.lights[1],)).with_light(0, angle=89.9))
     return (
         HardCase("far box, directional", _mapped(Scene3D(one.objects + (Object3D("box", (10.0, 10.0, 10.0),
                                                                                    (20000.0, 5.0, 0.0)),), (SUN,))), 0),
+        HardCase("far box up the sun", _mapped(Scene3D(one.objects + (Object3D("box", (10.0, 10.0, 10.0), tuple(
+            np.array([-40.0, 5.0, 60.0]) - 20000.0 * sun)),), (SUN,))), 0),  # its shadow beside the box's
         HardCase("spot of 89.9 deg", wide, 0),
         HardCase("spot of 89.9 deg, all", wide, 0, Lights3DCamera()),  # the cone's receivers too wide for one view
         HardCase("point 9,400 away", _mapped(Scene3D(one.objects, (one.lights[0],)).with_light(
@@ -53,16 +57,22 @@ def hard_cases() -> tuple[HardCase, ...]:
     )
 
 
-def texels_per_pixel(views: MapViews, light_position, map_size: int, position: np.ndarray, object_id: np.ndarray,
-                     judged: np.ndarray) -> float:
-    """The median texels a judged pixel's footprint covers in the tile it reads (`position` (H, W, 3) the
-    surface's world points, `object_id` (H, W) whose they are, `judged` (H, W) the pixels counted); nan for none."""
+def footprints(views: MapViews, light_position, map_size: int, position: np.ndarray, object_id: np.ndarray,
+               judged: np.ndarray) -> np.ndarray:
+    """The texels each judged pixel's footprint covers in the tile it reads (`position` (H, W, 3) the surface's
+    world points, `object_id` (H, W) whose they are, `judged` (H, W) the pixels counted), those with a right and
+    a lower neighbour on the same object."""
     here = judged[:-1, :-1] & (object_id[:-1, :-1] == object_id[:-1, 1:]) & (object_id[:-1, :-1] ==
                                                                              object_id[1:, :-1])
-    if not here.any():
-        return float("nan")
     centre, right, below = (position[:-1, :-1][here], position[:-1, 1:][here], position[1:, :-1][here])
     tiles = views.tiles_of(centre, light_position)
     t0, tx, ty = (views.texels(p, tiles, map_size) for p in (centre, right, below))
     ax, ay = tx - t0, ty - t0
-    return float(np.median(np.abs(ax[:, 0] * ay[:, 1] - ax[:, 1] * ay[:, 0])))
+    return np.abs(ax[:, 0] * ay[:, 1] - ax[:, 1] * ay[:, 0])
+
+
+def texels_per_pixel(views: MapViews, light_position, map_size: int, position: np.ndarray, object_id: np.ndarray,
+                     judged: np.ndarray) -> float:
+    """The median of footprints(...); nan where no pixel is judged."""
+    areas = footprints(views, light_position, map_size, position, object_id, judged)
+    return float(np.median(areas)) if len(areas) else float("nan")

@@ -27,7 +27,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from app.gl.lights3d.light_reach import box_corners, frustum_planes, reach_box
+from app.gl.lights3d.light_reach import frustum_planes, reach_box
 from app.gl.lights3d.shadow_map import (CASCADES, CUBE, CUBE_FACES, NEAR_SHARE, NO_SPLIT, ONE, MapViews, pad,
                                         widening)
 from app.model.lights3d.scene import Light3D
@@ -123,7 +123,7 @@ def fit_views(light: Light3D, receivers, casters, view_proj, size: int, pcf: int
     objects it reaches in view, `casters` those that can shadow them (lo, hi, centre, radius: bounds)."""
     regions = receiver_regions(light, receivers, view_proj)
     if light.kind == "directional":
-        return _cascades(light, regions, casters, np.asarray(view_proj, np.float64), size, pcf, cascades)
+        return _cascades(light, regions, np.asarray(view_proj, np.float64), size, pcf, cascades)
     return _radial(light, regions, casters, size, pcf)
 
 
@@ -140,8 +140,7 @@ def _snapped(lo: float, hi: float, size: int, pcf: int) -> tuple[float, float]:
     return first, first + size * texel
 
 
-def _cascades(light: Light3D, regions, casters, view_proj: np.ndarray, size: int, pcf: int,
-              count: int) -> MapViews:
+def _cascades(light: Light3D, regions, view_proj: np.ndarray, size: int, pcf: int, count: int) -> MapViews:
     row = view_proj[3]  # a perspective camera's clip w: the view depth of a world point
     grid = _grid(count)
     everything = convex_corners(regions)
@@ -152,8 +151,6 @@ def _cascades(light: Light3D, regions, casters, view_proj: np.ndarray, size: int
     splits = practical_splits(max(depth.min(), 1e-9), depth.max(), count)
     rotation = look_at(np.zeros(3), light.direction)  # a frame fixed in the world: the texel grids' origin
     turn = rotation[:3, :3]
-    boxes = [box_corners(c.lo, c.hi) @ turn.T for c in casters]
-    shadows = [(b[:, :2].min(0), b[:, :2].max(0), -b[:, 2].max()) for b in boxes]  # across, and nearest the light
     unit = np.linalg.norm(row[:3])
     views, drawn = [], []
     for first, last in zip(splits[:-1], splits[1:]):
@@ -165,10 +162,7 @@ def _cascades(light: Light3D, regions, casters, view_proj: np.ndarray, size: int
             continue
         local = points @ turn.T
         lo, hi = local[:, :2].min(0), local[:, :2].max(0)
-        near, far = -local[:, 2].max(), -local[:, 2].min()
-        for c_lo, c_hi, c_near in shadows:
-            if (c_lo <= hi).all() and (c_hi >= lo).all():  # a caster over the slice's receivers
-                near = min(near, c_near)
+        near, far = -local[:, 2].max(), -local[:, 2].min()  # casters nearer the light: clamped to depth 0
         margin = MARGIN * (far - near) + 1e-9 * (1.0 + abs(far))
         (x0, x1), (y0, y1) = _snapped(lo[0], hi[0], size, pcf), _snapped(lo[1], hi[1], size, pcf)
         views.append(orthographic((x0, y0, near - margin), (x1, y1, far + margin)) @ rotation)

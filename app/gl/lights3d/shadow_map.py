@@ -15,7 +15,7 @@ side by side in an atlas (cascades 2 x 2 from three on, cube faces 3 x 2).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -28,8 +28,11 @@ from app.model.transforms import gl_matrix
 
 PROGRAM = "shadow_map"
 NEAR_SHARE = 1e-3  # a perspective view's near plane, as a share of its far one
-# Depth only, from the light: LESS, the casters' back faces (culled front faces).
+# Depth only, from the light: LESS, the casters' back faces (culled front faces). An orthographic view's depth
+# clamped, not clipped: a caster nearer the light than the receivers its box holds lies at depth 0, shadowing them
+# all, however far it is (the box's depth spans the receivers alone: the bias a share of that).
 DEPTH_STATE = StencilState(write_mask=0, depth_write=True, cull=GL.GL_FRONT)
+ORTHOGRAPHIC_DEPTH_STATE = replace(DEPTH_STATE, depth_clamp=True)
 CUBE_FACES = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))  # +x -x +y -y +z -z
 # u_map_mode: which tile the light pass reads: the one view, the cube face the direction from the light leaves
 # through, or the cascade whose view depths hold the pixel's.
@@ -116,7 +119,7 @@ class ShadowMap:
         self.fbo.clear(depth=1.0)
         program = self.shaders.program(PROGRAM)
         set_uniforms(program, {"u_light": tuple(light.position), "u_near": views.near, "u_far": views.far})
-        with stencil_state(DEPTH_STATE):
+        with stencil_state(DEPTH_STATE if views.far > 0 else ORTHOGRAPHIC_DEPTH_STATE):
             for face, view_proj in enumerate(views.view_proj):
                 if not views.drawn[face]:
                     continue
