@@ -7,10 +7,11 @@ the light's reach (a point light's range box; a spot's cone box and the square p
 common: half-spaces, whose corners convex_corners finds by meeting their planes three at a time.
 - directional: cascades over the view depths the receivers span, split by the practical scheme (Zhang et al.
   2006: SPLIT_BLEND of the logarithmic split, the rest of the uniform one); each an orthographic box across the
-  light fitted to its slice's receivers and reaching toward the light to the casters over them. Its texel is a
-  quantised size (steps of 2^(1/TEXEL_STEPS)) and its corner lies on whole texels of a grid fixed in the light's
-  frame, so the map's texels hold still while the camera moves (no shimmering edges). The light pass picks the
-  cascade by the pixel's view depth.
+  light fitted to its slice's receivers, its depth theirs alone: the casters nearer the light are drawn clamped to
+  depth 0 (shadow_map.ORTHOGRAPHIC_DEPTH_STATE), so a caster far up the light's rays neither escapes the box nor
+  stretches its depth (and the bias, a share of it). Its texel is a quantised size (steps of 2^(1/TEXEL_STEPS))
+  and its corner lies on whole texels of a grid fixed in the light's frame, so the map's texels hold still while
+  the camera moves (no shimmering edges). The light pass picks the cascade by the pixel's view depth.
 - spot: one perspective view aimed at the receivers' mean direction, its window the box of their tangents, where
   they all lie within WIDE of that direction; else (a wide cone seen whole, a spot of 89.9 degrees) the point
   light's six faces.
@@ -133,14 +134,15 @@ def _grid(count: int) -> tuple[int, int]:
 
 def _snapped(lo: float, hi: float, size: int, pcf: int) -> tuple[float, float]:
     """A cascade's extent on one axis holding lo..hi inside its pad: a quantised texel, the corner on the grid."""
-    margin = pad(pcf)
+    spare = pad(pcf)
     span = max(hi - lo, 1e-9 * (1.0 + abs(lo)))
-    texel = 2.0 ** (math.ceil(math.log2(span / (size - 2 * margin - 1)) * TEXEL_STEPS) / TEXEL_STEPS)
-    first = (math.floor(lo / texel) - margin) * texel  # snapping moves lo under a texel: the extent has one spare
+    texel = 2.0 ** (math.ceil(math.log2(span / (size - 2 * spare - 1)) * TEXEL_STEPS) / TEXEL_STEPS)
+    first = (math.floor(lo / texel) - spare) * texel  # snapping moves lo under a texel: the extent has one spare
     return first, first + size * texel
 
 
 def _cascades(light: Light3D, regions, view_proj: np.ndarray, size: int, pcf: int, count: int) -> MapViews:
+    """A directional light's cascades over the view depths the receivers' regions span."""
     row = view_proj[3]  # a perspective camera's clip w: the view depth of a world point
     grid = _grid(count)
     everything = convex_corners(regions)
@@ -171,13 +173,13 @@ def _cascades(light: Light3D, regions, view_proj: np.ndarray, size: int, pcf: in
                     splits=tuple(splits[1:-1]))
 
 
-def _window(view: np.ndarray, tangents: np.ndarray, near: float, far: float, pcf_wider: float,
+def _window(view: np.ndarray, tangents: np.ndarray, near: float, far: float, wider: float,
             lo=None, hi=None) -> np.ndarray:
     """A perspective view whose window holds `tangents` (clamped to lo..hi), widened for the PCF pad."""
     t_lo, t_hi = tangents.min(0), tangents.max(0)
     if lo is not None:
         t_lo, t_hi = np.maximum(t_lo, lo), np.minimum(t_hi, hi)
-    centre, half = (t_lo + t_hi) / 2, np.maximum((t_hi - t_lo) / 2, 1e-9) * pcf_wider
+    centre, half = (t_lo + t_hi) / 2, np.maximum((t_hi - t_lo) / 2, 1e-9) * wider
     w_lo, w_hi = centre - half, centre + half
     slope = np.maximum(np.abs(w_lo), np.abs(w_hi))
     near_plane = near / math.sqrt(1.0 + slope @ slope)  # a caster at distance `near` anywhere in the window
@@ -190,6 +192,7 @@ def _tangents(view: np.ndarray, points: np.ndarray) -> np.ndarray:
 
 
 def _radial(light: Light3D, regions, casters, size: int, pcf: int) -> MapViews:
+    """A spot's one view, or six cube faces, each fitted to the receivers' regions it holds."""
     apex = np.asarray(light.position, np.float64)
     everything = convex_corners(regions)
     if not len(everything):
