@@ -34,6 +34,7 @@ from app.gl.lights3d.light_reach import (frustum_planes, light_in_view, reach_bo
 from app.gl.lights3d.meshes import ObjectBuffer, ObjectBuffers
 from app.gl.lights3d.overlay import Overlay
 from app.gl.lights3d.caster_volumes import VolumeCache, build
+from app.gl.lights3d.map_fitting import fit_views
 from app.gl.lights3d.shadow_map import ShadowMap
 from app.gl.lights3d.shadow_methods import MAP, METHODS
 from app.gl.lights3d.shadow_volume_pass import ShadowVolumePass, shadowed
@@ -61,12 +62,6 @@ def drop_stale_errors() -> None:
         log.warning("a GL error left before the 3D lights' frame: 0x%x", error)
 
 
-def scene_bounds(buffers: list[ObjectBuffer]) -> tuple[tuple, tuple]:
-    lo = np.min([b.lo for b in buffers], axis=0)
-    hi = np.max([b.hi for b in buffers], axis=0)
-    return tuple(lo), tuple(hi)
-
-
 @dataclass
 class FrameStats:
     """The work of the last frame."""
@@ -89,7 +84,7 @@ class MaskStats:
     casters: int               # closed meshes within the light's reach
     volume_triangles: int
     extruded_edges: int        # edges pushed to infinity: 3 per caster triangle (onepass), the silhouettes' else
-    build_ms: float            # the volumes built on the CPU
+    build_ms: float            # the volumes built on the CPU, or the map's views fitted (numpy)
     draw_ms: float             # the stencil marked, or the map drawn and read over the view (GPU, finished)
     visibility: np.ndarray | None = None  # map: the share of PCF taps that see the light, (H, W) top row first
 
@@ -146,7 +141,7 @@ class Lights3DRenderer:
                 stats.lights_skipped += 1
                 continue
             target.fbo.scissor = rect  # applied by each pass's use() of the target, the stencil's too
-            self._shadow(target, index, light, reached, buffers, view_proj, settings, stats)
+            self._shadow(target, index, light, reached, shown, view_proj, settings, stats)
             if debug == "stencil":
                 self._stencil_view(target.fbo)
             else:
@@ -190,7 +185,7 @@ class Lights3DRenderer:
                 program["u_albedo"].value = tuple(b.obj.colour)
                 b.render(program)
 
-    def _shadow(self, target: StencilTarget, index: int, light: Light3D, reached, buffers, view_proj,
+    def _shadow(self, target: StencilTarget, index: int, light: Light3D, reached, shown, view_proj,
                 settings, stats: FrameStats) -> None:
         casters = [b for b in reached if b.casts]
         method = METHODS[light.shadow]
@@ -203,8 +198,10 @@ class Lights3DRenderer:
             if index not in self.maps:
                 self.maps[index] = ShadowMap(self.ctx, self.shaders, self.units)
             shadow_map = self.maps[index]
-            stats.maps_rendered += shadow_map.render(light, casters, scene_bounds(buffers), settings.map_size,
-                                                     settings.pcf)
+            key = (light, tuple(b.obj for b in shown), tuple(c.obj for c in casters), view_proj.tobytes(), settings)
+            views = shadow_map.fitted(key, lambda: fit_views(light, shown, casters, view_proj, settings.map_size,
+                                                             settings.pcf, settings.cascades))
+            stats.maps_rendered += shadow_map.render(light, casters, views, settings.map_size, settings.pcf)
 
     def _light_pass(self, fbo, scene: Scene3D, camera: OrbitCamera, index: int, light: Light3D, buffers,
                     view_proj, settings) -> None:
@@ -273,10 +270,17 @@ class Lights3DRenderer:
         target.fbo.use()
         target.clear(colour=(*BACKGROUND, 1.0))
         self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)
-        casters = [b for b in buffers if b.casts and reaches(light, b.centre, b.radius)]
+        reached = [b for b in buffers if reaches(light, b.centre, b.radius)]
+        casters = [b for b in reached if b.casts]
+        fit_ms = 0.0
         if shadow.shadow_map:  # its texture made before the clock starts: drawing a map is timed, not allocating it
+            planes = frustum_planes(view_proj)
+            shown = [b for b in reached if sphere_in_view(planes, b.centre, b.radius)]
+            fitting = time.perf_counter()
+            views = fit_views(light, shown, casters, view_proj, settings.map_size, settings.pcf, settings.cascades)
+            fit_ms = (time.perf_counter() - fitting) * 1e3
             self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders, self.units)
-            self.mask_map.reserve(light, scene_bounds(buffers), settings.map_size, settings.pcf)
+            self.mask_map.reserve(views, settings.map_size)
         self.ctx.finish()
         start = time.perf_counter()
         if shadow.volumes:
@@ -290,20 +294,20 @@ class Lights3DRenderer:
             edges = sum(g.extruded_edges for g in geometries)
         elif shadow.shadow_map:
             built = start
-            visibility = self._map_visibility(target, light, casters, buffers, view_proj, settings)
+            visibility = self._map_visibility(target, light, casters, views, buffers, view_proj, settings)
             done = time.perf_counter()
             mask, triangles, edges = visibility < 0.5, 0, 0
         else:
             raise ValueError(f"shadow_mask measures the stencil methods and map, not {method!r}")
         mask &= target.read_depth() < 1.0
-        return mask, MaskStats(len(casters), triangles, edges, (built - start) * 1e3, (done - built) * 1e3,
+        return mask, MaskStats(len(casters), triangles, edges, fit_ms + (built - start) * 1e3, (done - built) * 1e3,
                                visibility)
 
-    def _map_visibility(self, target: StencilTarget, light: Light3D, casters, buffers, view_proj,
+    def _map_visibility(self, target: StencilTarget, light: Light3D, casters, views, buffers, view_proj,
                         settings) -> np.ndarray:
         """The map drawn afresh and read over the pre-pass's pixels; (H, W) float top row first, finished."""
         self.mask_map.forget()
-        self.mask_map.render(light, casters, scene_bounds(buffers), settings.map_size, settings.pcf)
+        self.mask_map.render(light, casters, views, settings.map_size, settings.pcf)
         program = self.shaders.program("lights3d_mask")
         self._light_uniforms(program, light, view_proj, optional=HOW_BRIGHT)
         self.mask_map.bind(program, settings.bias, settings.pcf)
