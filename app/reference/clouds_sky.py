@@ -9,17 +9,16 @@ import numpy as np
 
 from app.model.clouds import atmosphere as am
 from app.model.clouds import scene as cm
-from app.model.clouds.atmosphere import EARTH
-from app.model.clouds.scene import Frame
+from app.model.clouds.scene import ATMOSPHERE, Frame
 from app.reference import atmosphere as ra
 from app.reference.clouds_medium import hg
 
 CIRRUS_G_FORWARD, CIRRUS_G_BACK, CIRRUS_BACK_WEIGHT = 0.8, -0.3, 0.15   # the ice's two lobes
-SUN_COS_RADIUS = math.cos(math.radians(EARTH.sun_radius_deg))
+SUN_COS_RADIUS = math.cos(math.radians(ATMOSPHERE.sun_radius_deg))
 
 
 def tables(frame: Frame) -> ra.Tables:
-    return ra.tables(EARTH, float(frame.camera[1]), float(frame.sun_dir[1]))
+    return ra.tables(ATMOSPHERE, float(frame.camera[1]), float(frame.sun_dir[1]))
 
 
 def cos_azimuth(frame: Frame, d: np.ndarray) -> np.ndarray:
@@ -55,7 +54,7 @@ def aerial_perspective(frame: Frame, t: ra.Tables, seen: np.ndarray, d: np.ndarr
 
 def physical_ground(frame: Frame, t: ra.Tables, normal: np.ndarray, shadow: np.ndarray) -> np.ndarray:
     """A Lambertian ground lit by the sun's transmitted light (shadowed by the clouds) and pi Psi_ms."""
-    r = EARTH.bottom + am.MIN_ALTITUDE
+    r = ATMOSPHERE.bottom + am.MIN_ALTITUDE
     mu_s = normal @ np.array(frame.sun_dir)
     sun = frame.direct * t.sun_transmittance(r, mu_s) * (np.maximum(mu_s, 0.0) * shadow / math.pi)[..., None]
     return np.array(cm.GROUND_ALBEDO) * frame.sun_illuminance * (sun + t.multiple(r, mu_s))

@@ -21,8 +21,7 @@ from app.gl.clouds.atmosphere import AtmosphereTables
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
-from app.model.clouds.atmosphere import EARTH
-from app.model.clouds.scene import CloudRenderSettings, Frame
+from app.model.clouds.scene import ATMOSPHERE, CloudRenderSettings, Frame
 
 # The order in which reprojection traces the pixels of a d x d block, one a frame (index = x + d y), each
 # frame's pixel far from the last ones: Bayer's for 2 and Guerrilla's 4x4, a dispersed one for 3.
@@ -159,7 +158,7 @@ class CloudRenderer:
         size = fbo.size
         bsize = buffer_size(size, settings.downsample)
         aspect = size[0] / max(size[1], 1)
-        self.atmosphere.update(EARTH, frame.camera[1], frame.sun_dir[1])  # first: its passes bind their own units
+        self.atmosphere.update(ATMOSPHERE, frame.camera[1], frame.sun_dir[1])  # first: its passes bind their own units
         values = self._scene_values(frame, settings, aspect)
         # The histories hold while only the clock moves (the winds, a weather blend); reprojection's also
         # through a turn of the camera (a direction's colour does not depend on where the camera looks);
@@ -188,7 +187,7 @@ class CloudRenderer:
     def _scene_values(self, frame: Frame, settings: CloudRenderSettings, aspect: float) -> dict:
         """The uniforms every pass shares, the textures bound: the frame's, the noise's and the atmosphere's."""
         values = uniforms(frame, settings, aspect, self.frame_index)
-        values.update(self.textures.use(self.units), **self.atmosphere.uniforms(EARTH),
+        values.update(self.textures.use(self.units), **self.atmosphere.uniforms(ATMOSPHERE),
                       **self.units.bind(u_atmosphere=self.atmosphere.atlas))
         return values
 

@@ -15,8 +15,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from app.model.clouds.scene import CIRRUS_ALTITUDE, GROUND_ALBEDO, LAYER_BOTTOM, LAYER_TOP, PLANET_RADIUS
-
 # The sun's illuminance at the top of the atmosphere, in the renderer's radiance units: a white surface facing a
 # clear noon sun reflects about this / pi. Chosen so that noon looks right under the display's clamp until the
 # frame is tone mapped: the clouds as bright as the seed's (their sun light, E / (4 pi) T, near 1) and the
@@ -36,9 +34,11 @@ MIN_ALTITUDE = 1.0               # points are kept this far above the ground (a 
 
 @dataclass(frozen=True)
 class Atmosphere:
-    """Earth's atmosphere after Hillaire 2020 (its Earth preset), on a planet of radius `bottom`."""
-    bottom: float = PLANET_RADIUS
-    top: float = PLANET_RADIUS + 100_000.0
+    """Earth's air after Hillaire 2020 (its Earth preset) between the radii `bottom` (the ground, of albedo
+    `ground_albedo`) and `top` (app.model.clouds.scene.ATMOSPHERE: on the clouds' planet)."""
+    bottom: float
+    top: float
+    ground_albedo: tuple
     rayleigh_scattering: tuple = (5.802e-6, 13.558e-6, 33.1e-6)   # per metre at the ground, red green blue
     rayleigh_height: float = 8000.0                               # exponential scale height
     mie_scattering: float = 3.996e-6
@@ -48,11 +48,7 @@ class Atmosphere:
     ozone_absorption: tuple = (0.650e-6, 1.881e-6, 0.085e-6)
     ozone_centre: float = 25_000.0                                # a tent: 1 at the centre, 0 at +-width
     ozone_width: float = 15_000.0
-    ground_albedo: tuple = GROUND_ALBEDO
     sun_radius_deg: float = 0.2665                                # the sun's angular radius
-
-
-EARTH = Atmosphere()
 
 
 # ---- the medium ---------------------------------------------------------------------------------------------
@@ -287,12 +283,13 @@ def layer_light(atm: Atmosphere, sun_y: float, altitudes: tuple[float, ...]) -> 
     return LayerLight(sun_transmittance(atm, r, mu_s), multiple_scattering(atm, r, mu_s))
 
 
-def physical_light(sun_y: float, direct: float, ambient_gain: float, atm: Atmosphere = EARTH) -> dict:
-    """The frame's light on the clouds under the physical sky (app.model.clouds.scene.Frame's fields): the sun's
-    transmitted light at the layer's base and top and at the cirrus, in the shader's units (the light march
-    multiplies it by 4 pi times the phase, so it is the illuminance over 4 pi), times `direct`; and the sky's
-    mean radiance there (Psi_ms) as their ambient light, times `ambient_gain`."""
-    light = layer_light(atm, float(sun_y), (LAYER_BOTTOM, LAYER_TOP, CIRRUS_ALTITUDE))
+def physical_light(atm: Atmosphere, sun_y: float, direct: float, ambient_gain: float,
+                   altitudes: tuple[float, float, float]) -> dict:
+    """The frame's light on the clouds under the physical sky (app.model.clouds.scene.Frame's fields) at the
+    layer's base and top and at the cirrus (`altitudes`): the sun's transmitted light in the shader's units (the
+    light march multiplies it by 4 pi times the phase, so it is the illuminance over 4 pi), times `direct`; and
+    the sky's mean radiance there (Psi_ms) as their ambient light, times `ambient_gain`."""
+    light = layer_light(atm, float(sun_y), tuple(altitudes))
     sun = light.sun * SUN_ILLUMINANCE / (4 * math.pi) * direct
     ambient = light.ambient * SUN_ILLUMINANCE * ambient_gain
     rgb = [tuple(float(c) for c in row) for row in (*sun, *ambient)]

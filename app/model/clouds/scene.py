@@ -10,6 +10,8 @@ import math
 from typing import TYPE_CHECKING, get_type_hints
 from dataclasses import dataclass, field, fields, replace
 
+from app.model.clouds.atmosphere import Atmosphere, physical_light
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -40,6 +42,9 @@ SUN_LOW_COLOR = (1.0, 0.31, 0.0)
 SKY_ZENITH = (0.24, 0.45, 0.85)
 SKY_HORIZON = (0.70, 0.80, 0.95)
 GROUND_ALBEDO = (0.20, 0.21, 0.17)
+# The physical sky's air: Earth's (Hillaire's preset, 100 km deep) over this planet (docs/clouds.md, "The sky
+# and the atmosphere", says what the small planet changes).
+ATMOSPHERE = Atmosphere(bottom=PLANET_RADIUS, top=PLANET_RADIUS + 100_000.0, ground_albedo=GROUND_ALBEDO)
 
 
 @dataclass(frozen=True)
@@ -264,8 +269,8 @@ def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: f
     sky = max(0.05, fade)
     seed_sun = tuple(c * params.direct * fade for c in sun_color)
     if params.physical_sky:
-        from app.model.clouds.atmosphere import physical_light  # it reads this module's planet
-        light = physical_light(sun[1], params.direct, params.ambient / PARAM["ambient"].default)
+        light = physical_light(ATMOSPHERE, sun[1], params.direct, params.ambient / PARAM["ambient"].default,
+                               (LAYER_BOTTOM, LAYER_TOP, CIRRUS_ALTITUDE))
     else:
         light = dict(sun_light=seed_sun, sun_light_top=seed_sun, cirrus_light=seed_sun,
                      ambient_base=tuple(c * ambient for c in CLOUD_BASE_COLOR),
