@@ -74,7 +74,7 @@ def test_the_gpu_tables_are_the_cpu_recipes(tables, altitude, elevation):
     horizon = am.SKY_VIEW_SIZE[1] // 2
     sky[horizon - 1:horizon + 1] = 0   # the rays that graze the ground: float32 cannot place them
     # float32's acos puts a texel's direction some 1e-5 off, which moves samples in the planet's penumbra a little
-    assert sky.max() < (1e-3 if elevation > 0 else 1e-2)
+    assert sky.max() < (2e-3 if elevation > 0 else 2e-2)
     assert np.median(sky) < 1e-4
 
 
