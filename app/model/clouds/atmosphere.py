@@ -19,7 +19,7 @@ import numpy as np
 # clear noon sun reflects about this / pi. Chosen so that noon looks right under the display's clamp until the
 # frame is tone mapped: the clouds as bright as the seed's (their sun light, E / (4 pi) T, near 1) and the
 # zenith a clear blue (docs/clouds.md, "The sky and the atmosphere").
-SUN_ILLUMINANCE = 4.0 * math.pi * 1.0
+SUN_ILLUMINANCE = 4.0 * math.pi
 
 TRANSMITTANCE_SIZE = (256, 64)   # (mu, r) texels
 MULTISCATTER_SIZE = (32, 32)     # (mu_s, r)
@@ -27,7 +27,7 @@ SKY_VIEW_SIZE = (192, 108)       # (azimuth from the sun, view zenith)
 TRANSMITTANCE_STEPS = 40         # midpoint steps along each ray of a texel
 MULTISCATTER_STEPS = 20
 MULTISCATTER_DIRECTIONS = 8      # 8 x 8 directions over the sphere
-SKY_VIEW_STEPS = 30
+SKY_VIEW_STEPS = 30               # (the sky view and the aerial perspective: squared spacing)
 AERIAL_STEPS = 16                # steps from the camera to a cloud, the cirrus or the ground
 MIN_ALTITUDE = 1.0               # points are kept this far above the ground (a ray at the ground grazes it)
 

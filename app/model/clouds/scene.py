@@ -209,7 +209,7 @@ class Frame:
     ambient_top: tuple
     sky_zenith: tuple
     sky_horizon: tuple
-    physical_sky: int         # 1: the sky, the aerial perspective and the light below from the atmosphere
+    physical_sky: int         # 1: the sky, the light on the clouds and the ground, and the haze from the air
     sun_illuminance: float    # the physical sky's radiance per unit of its tables
     direct: float             # the sun's light on the ground, times (the physical sky's)
     sun_light_top: tuple      # the sun's light at the layer's top (sun_light: at its base)
