@@ -24,6 +24,7 @@ from app.io.volume_formats.checks import (PathLike, VolumeFile, FormatError, as_
 
 _HEADERS = {348: (nib.Nifti1Header, (b"n+1\x00", b"ni1\x00")), 540: (nib.Nifti2Header, (b"n+2\x00", b"ni2\x00"))}
 _SKIP = 1 << 16  # bytes skipped at a time between the header and the voxels (extensions)
+_PIECE = 1 << 18  # bytes read at a time into the voxels: gzip's readinto makes a copy of what it is asked for
 
 
 def _header(path: PathLike, stream: BinaryIO) -> nib.Nifti1Header:
@@ -63,7 +64,7 @@ def _read_into(path: PathLike, stream: BinaryIO, n: int) -> bytearray:
     data = bytearray(n)
     view, filled = memoryview(data), 0
     while filled < n:
-        got = stream.readinto(view[filled:])
+        got = stream.readinto(view[filled:filled + _PIECE])
         if not got:
             raise FormatError(f"{path} is truncated: expected {n} bytes of voxel data, found {filled}")
         filled += got
