@@ -414,3 +414,12 @@ def test_a_mixed_series_changes_nothing(volume_editor):
     assert not volume_editor.execute(f"load {DICOM_TESTS / 'dicomdirtests' / '98892003' / 'MR2'}")
     assert "holds 3 DICOM series" in logged(volume_editor, "error")[-1]
     assert (volume.voxels.digest(), volume.history.undo_depth) == before
+
+
+def test_a_script_reads_no_series_in_a_folder_beside_it_but_the_user_may(volume_editor, tmp_path):
+    """Scripts read beside the file that runs, not below it: a series folder's files are below."""
+    shutil.copytree(DICOM_TESTS / "dicomdirtests" / "98892001" / "CT5N", tmp_path / "scripts" / "ct")
+    (tmp_path / "scripts" / "s.cfg").write_text(f"load {tmp_path / 'scripts' / 'ct'}\n")  # the folder is beside it
+    assert not volume_editor.execute(f"exec {tmp_path / 'scripts' / 's.cfg'}")
+    assert any(f"may not read {tmp_path / 'scripts' / 'ct' / '*'}" in line for line in logged(volume_editor, "error"))
+    assert volume_editor.execute(f"load {tmp_path / 'scripts' / 'ct'}")

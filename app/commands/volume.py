@@ -189,6 +189,8 @@ def load(ctx: Ctx, path: str, more: list[str] | None = None) -> str:
     more = more or []
     found = files.find(path, ctx.console) if "%" not in path else None  # a series names its slices
     source = found or files.readable(ctx.console, path)
+    if source.is_dir():  # a DICOM series: its files lie below the folder, which a script may read only in its places
+        files.readable(ctx.console, str(source / "*"))
     npz = suffix_of(source) == ".npz"
     if npz and len(more) > 1:
         raise CommandError(f"an .npz file's array is chosen by one name: load {path} NAME")
