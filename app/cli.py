@@ -280,8 +280,9 @@ def editor(argv: list[str]) -> int:
     p.epilog = "headless verbs (shadelab VERB -h for each one's options):\n" + "\n".join(
         f"  shadelab {verb:<8} {text}" for verb, text in VERBS.items())
     args = p.parse_args(argv)
-    if args.file is not None and find(args.file) is None:  # as `exec`, `play`... find it: the resources too
-        p.error(f"{args.file!r} is neither a verb ({', '.join(VERBS)}) nor a file")
+    # as `exec`, `play`... find it: the resources too; a folder opens as a scan's series of slices
+    if args.file is not None and find(args.file) is None and not Path(args.file).is_dir():
+        p.error(f"{args.file!r} is neither a verb ({', '.join(VERBS)}) nor a file or folder")
     problem = display_problem()
     if problem is not None:
         print(f"shadelab: {problem}", file=sys.stderr)

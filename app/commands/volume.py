@@ -14,8 +14,9 @@ from app.console.command_set import CommandSet, Context
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import SCRIPTS, CommandError, Cvar
-from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
-                                   write_volume)
+from app.io.volume_formats import (READ_ONLY, SCALAR_SUFFIXES, SPACING_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES,
+                                   FormatError, is_volume_source, read_dicom_files, read_volume_file,
+                                   suffix_of, write_volume)
 from app.model.camera3d import OrbitCamera
 from app.model.volume import voxels as voxels_model
 from app.model.volume.painting import MAX_COORD
@@ -23,7 +24,7 @@ from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume.samples import SAMPLES, make
 from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
                                       default_window, value_range)
-from app.model.volume.voxels import AXES, MAX_SIDE, transparent
+from app.model.volume.voxels import AXES, DEFAULT_SPACING, MAX_SIDE, Spacing, VolumeError, check_spacing, transparent
 from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -74,6 +75,10 @@ def _span(low: float, high: float) -> str:
     return f"{low:g}..{high:g}"
 
 
+def _spacing_text(spacing: Spacing) -> str:
+    return " ".join(f"{s:g}" for s in spacing)
+
+
 def _switched(current: bool, on: int | None) -> bool:
     """A flag command's new value: toggled without an argument."""
     return (not current) if on is None else bool(on)
@@ -97,7 +102,8 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     # of the same size
     state.files = SceneFiles(partial(load, ctx), partial(write, ctx), (".r3", *(s for s in SUPPORTED if s != ".r3")),
                              new=partial(new_same_size, ctx), replacing=("new", "sample"), verbs=("load", "save"),
-                             keeping=partial(kept_suffix, ctx))
+                             keeping=partial(kept_suffix, ctx), read_only=READ_ONLY,
+                             claims=partial(is_volume_source, max_bytes=voxels_model.MAX_BYTES))
     COMMANDS.register(console.registry, ctx, checks)
 
 
@@ -120,20 +126,25 @@ class ScriptSteps:
 
 
 def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: TransferFunction | None = None,
-             loaded: bool = True) -> None:
+             loaded: bool = True, spacing: Spacing | None = None, notes: tuple[str, ...] = ()) -> None:
     """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
-    the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over.
-    A loaded volume (a file, a sample) opens the painter on its middle slice; a new one keeps the slice."""
+    the default window, as the undo step `step`, its voxels `spacing` apart (1 1 1 if None). `data` is the
+    command's own (a fresh array) to hand over. A loaded volume (a file, a sample) opens the painter on its
+    middle slice; a new one keeps the slice. `notes`: what the reader says of the file."""
     state, volume = ctx.state, ctx.state.volume
+    spacing = spacing or DEFAULT_SPACING
     if data.ndim == 3:
-        volume.replace_scalars(data, transfer, name=step, copy=False)
+        volume.replace_scalars(data, transfer, name=step, copy=False, spacing=spacing)
     else:
-        volume.replace(data, step)
+        volume.replace(data, step, spacing)
     if loaded:
         state.middle_slice()
     else:
         state.clamp_slice()
-    ctx.console.print(f"{what}: {'x'.join(map(str, volume.voxels.size))}")
+    shown = "" if spacing == DEFAULT_SPACING else f", spacing {_spacing_text(spacing)}"
+    ctx.console.print(f"{what}: {'x'.join(map(str, volume.voxels.size))}{shown}")
+    for note in notes:
+        ctx.console.print(f"  {note}")
     if (scalars := volume.voxels.scalars) is not None:
         chosen = ("kept in the file" if transfer is not None else
                   "percentiles {:g}..{:g} of the values above the minimum".format(*PERCENTILES))
@@ -170,16 +181,29 @@ def new_same_size(ctx: Ctx) -> None:
     new(ctx, *ctx.state.volume.voxels.size)
 
 
-@COMMANDS.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
-                  "float ones through a window)", completer=volume_files, allow=SCRIPTS)
-def load(ctx: Ctx, path: str) -> str:
+@COMMANDS.command("load", "path [more...]", "Open a 3D raster image (.r3, name_%i.png series, .npy, .npz, .tif, "
+                  ".nrrd, .nii, .nii.gz, DICOM: a series' folder or files; 16-bit and float ones through a window); "
+                  "`load FILE.npz NAME` opens one of the file's arrays, `load FILE FILE...` the files of one DICOM "
+                  "series", completer=volume_files, allow=SCRIPTS)
+def load(ctx: Ctx, path: str, more: list[str] | None = None) -> str:
+    more = more or []
     found = files.find(path, ctx.console) if "%" not in path else None  # a series names its slices
     source = found or files.readable(ctx.console, path)
-    try:
-        read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES)  # the model's limit, before reading
+    if source.is_dir():  # a DICOM series: its files lie below the folder, which a script may read only in its places
+        files.readable(ctx.console, str(source / "*"))
+    npz = suffix_of(source) == ".npz"
+    if npz and len(more) > 1:
+        raise CommandError(f"an .npz file's array is chosen by one name: load {path} NAME")
+    try:  # the model's limit, before reading
+        if more and not npz:
+            others = [files.readable(ctx.console, name) for name in more]
+            read = read_dicom_files([source, *others], max_bytes=voxels_model.MAX_BYTES)
+        else:
+            read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES, array=more[0] if more else None)
     except FormatError as exc:
         raise CommandError(str(exc)) from None
-    _replace(ctx, read.data, f"loaded {source}", "Load Volume", read.transfer)
+    what = f"loaded {source}" + (f" and {len(more)} more" if more and not npz else "")
+    _replace(ctx, read.data, what, "Load Volume", read.transfer, spacing=read.spacing, notes=read.notes)
     return str(source)
 
 
@@ -197,9 +221,9 @@ def write(ctx: Ctx, path: str) -> None:
     voxels = ctx.state.volume.voxels
     try:
         if _as_scalars(ctx, path):
-            write_volume(path, voxels.scalars.values, voxels.scalars.transfer)
+            write_volume(path, voxels.scalars.values, voxels.scalars.transfer, spacing=voxels.spacing)
         else:
-            write_volume(path, voxels.data)
+            write_volume(path, voxels.data, spacing=voxels.spacing)
     except FormatError as exc:
         raise CommandError(str(exc)) from None
 
@@ -213,7 +237,11 @@ def save(ctx: Ctx, path: str) -> str:
         write(ctx, target)
     except OSError as exc:
         raise CommandError(str(exc)) from None
-    scalars, say = ctx.state.volume.voxels.scalars, ctx.console.print
+    voxels, say = ctx.state.volume.voxels, ctx.console.print
+    scalars = voxels.scalars
+    if voxels.spacing != DEFAULT_SPACING and suffix_of(target) not in SPACING_SUFFIXES:
+        say(f"the spacing {_spacing_text(voxels.spacing)} is not kept in {target.name} "
+            f"({', '.join(SPACING_SUFFIXES)} keeps it)")
     if scalars is None:
         say(f"saved {target}")
     elif target.suffix.lower() in WINDOW_SUFFIXES:
@@ -515,6 +543,33 @@ def colormap(ctx: Ctx, name: str) -> None:
     volume = ctx.state.volume
     scalars = volume.voxels.require_scalars()
     volume.set_transfer(replaced(scalars.transfer, colormap=name))  # the model checks the name
+
+
+@COMMANDS.check("vol.spacing")
+def spacing_args(ctx: Ctx, sides: list[float] | None = None) -> Spacing | None:
+    if not sides:
+        return None
+    if len(sides) != 3:
+        raise CommandError("give the spacing as three sides, sx sy sz, or none to show it")
+    try:
+        return check_spacing(*sides)
+    except VolumeError as exc:
+        raise CommandError(str(exc)) from None
+
+
+@COMMANDS.command("vol.spacing", "[sides:float...]", "Show or set the voxels' spacing, sx sy sz (x, y, z; in the "
+                  "file's unit, mm for scans): the box and the painter take the volume's physical shape; files "
+                  "give it where they state it", allow=SCRIPTS)
+def spacing(ctx: Ctx, sides: list[float] | None = None) -> None:
+    chosen = spacing_args(ctx, sides)
+    voxels = ctx.state.volume.voxels
+    if chosen is None:
+        w, h, d = voxels.size
+        sx, sy, sz = voxels.spacing
+        ctx.console.print(f"spacing {_spacing_text(voxels.spacing)}: the volume is {w * sx:g} x {h * sy:g} x "
+                          f"{d * sz:g}")
+    else:
+        ctx.state.volume.set_spacing(chosen)
 
 
 @COMMANDS.check("vol.background")

@@ -10,19 +10,21 @@ from scipy.ndimage import map_coordinates
 
 from app.model.volume import render_modes as rm
 from app.model.camera3d import OrbitCamera
-from app.model.volume.view import FLIP, box_extents, world_to_texture
+from app.model.volume.view import FLIP, box_extents, voxel_extent, world_to_texture
 
 
 
 class Scene:
     """The volume as float RGBA and intensity, with its box, for one reference render."""
 
-    def __init__(self, data: np.ndarray, sample_range: float = 1.0, shadow_offset: float = rm.SHADOW_OFFSET) -> None:
+    def __init__(self, data: np.ndarray, sample_range: float = 1.0, shadow_offset: float = rm.SHADOW_OFFSET,
+                 spacing: tuple[float, float, float] = (1.0, 1.0, 1.0)) -> None:
         self.shadow_offset = shadow_offset
         self.rgba = data.astype(np.float64) / 255.0                  # (d, h, w, 4)
         self.size = np.array(data.shape[2::-1], dtype=np.float64)    # (w, h, d)
-        self.extent = np.array(box_extents(tuple(int(s) for s in self.size)))
-        self.voxel = 2.0 / self.size.max()                           # world size of a voxel
+        voxels = tuple(int(s) for s in self.size)
+        self.extent = np.array(box_extents(voxels, spacing))
+        self.voxel = voxel_extent(voxels, spacing)                    # world size of a voxel's shortest side
         self.sample_range = sample_range
 
     def to_texture(self, p: np.ndarray) -> np.ndarray:
@@ -168,10 +170,11 @@ def _phong(scene: Scene, t: np.ndarray, s: np.ndarray, view_dir: np.ndarray, mod
 
 def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: rm.Mode, steps: float,
            shadow_steps: int = 20, sample_range: float = 1.0, background=(0.0, 0.0, 0.0),
-           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET) -> np.ndarray:
-    """The image (height, width, 3), floats 0..1, top row first."""
+           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET,
+           spacing: tuple[float, float, float] = (1.0, 1.0, 1.0)) -> np.ndarray:
+    """The image (height, width, 3), floats 0..1, top row first; `spacing`: the voxels' sides (x, y, z)."""
     w, h = size
-    scene = Scene(data, sample_range, shadow_offset)
+    scene = Scene(data, sample_range, shadow_offset, spacing)
     inv = np.linalg.inv(camera.clip_from_world((w, h)))
     px, py = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
     ndc = np.stack([2 * px / w - 1, 1 - 2 * py / h, np.ones_like(px), np.ones_like(px)], -1).reshape(-1, 4)

@@ -14,7 +14,7 @@ from app.gl.volume.texture import VolumeTexture
 from app.model.volume.voxels import VolumeWatch, Voxels
 from app.model.volume import render_modes as rm
 from app.model.volume.render_modes import TraceSettings
-from app.model.volume.view import AXIS_INDEX, VolumeView, box_extents
+from app.model.volume.view import AXIS_INDEX, VolumeView, box_extents, voxel_extent
 from app.model.transforms import gl_matrix
 
 EDITED_SLICE = (0.35, 0.85, 1.0, 0.10)   # faint: where the painter works
@@ -136,7 +136,7 @@ class RayTracer:
         program = self.shaders.program("box_edges")
         view_proj = cam.clip_from_world((w, h))
         set_uniforms(program, {"u_view_proj": gl_matrix(view_proj), "u_color": WIREFRAME,
-                            "u_extent": box_extents(voxels.size)})
+                            "u_extent": box_extents(voxels.size, voxels.spacing)})
         fbo.use()
         self._edges.get(program).render(moderngl.LINES)
 
@@ -144,7 +144,7 @@ class RayTracer:
         mode = rm.MODES[settings.mode]
         w, h = fbo.size
         view_proj = cam.clip_from_world((w, h))
-        extent = np.array(box_extents(voxels.size), dtype="f4")
+        extent = np.array(box_extents(voxels.size, voxels.spacing), dtype="f4")
         uniforms = self._uniforms(voxels, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
         # one volume at two units, read through two samplers
@@ -203,7 +203,7 @@ class RayTracer:
             "u_shadow_offset": float(s.shadow_offset),
             "u_extent": tuple(extent),
             "u_voxels": tuple(float(v) for v in voxels.size),
-            "u_voxel": 2.0 / max(voxels.size),
+            "u_voxel": voxel_extent(voxels.size, voxels.spacing),
             "u_steps": float(s.steps),
             "u_shadow_steps": int(s.shadow_steps),
             "u_sample_range": float(s.sample_range),

@@ -1,5 +1,6 @@
 """A volume's undo history: steps that take its voxels back and forth (a changed sub-box, a quarter turn, a whole
-image swapped, a window), capped by count and bytes, and the preview of a stroke in progress, kept out of it."""
+image swapped, a window, a spacing), capped by count and bytes, and the preview of a stroke in progress, kept out of
+it."""
 from __future__ import annotations
 
 from collections import deque
@@ -8,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from app.model.volume.scalars import Scalars, TransferFunction
-from app.model.volume.voxels import Box, Voxels
+from app.model.volume.voxels import DEFAULT_SPACING, Box, Spacing, Voxels
 
 UNDO_STEPS = 256
 UNDO_BYTES = 512 << 20
@@ -59,15 +60,27 @@ class Swap:
     nbytes: int  # what the replaced image held: fixed, as undo and redo swap images of other sizes in and out
     serial: int = 0
     name: str = ""
+    spacing: Spacing = DEFAULT_SPACING  # and its spacing
 
     @classmethod
     def of(cls, voxels: Voxels, name: str) -> Swap:
         """The step that brings back what `voxels` show now."""
         data, scalars = voxels.data, voxels.scalars
-        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0), name=name)
+        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0), name=name, spacing=voxels.spacing)
 
     def apply(self, voxels: Voxels, undo: bool) -> None:
-        self.other, self.scalars = voxels.swap(self.other, self.scalars)
+        self.other, self.scalars, self.spacing = voxels.swap(self.other, self.scalars, self.spacing)
+
+
+@dataclass
+class Respace:
+    spacing: Spacing  # the spacing not currently shown
+    nbytes: int = 0
+    serial: int = 0
+    name: str = "Set Spacing"
+
+    def apply(self, voxels: Voxels, undo: bool) -> None:
+        self.spacing = voxels.respace(self.spacing)
 
 
 @dataclass
@@ -100,7 +113,7 @@ class Group:
             inner.apply(voxels, undo)
 
 
-Step = Patch | Turn | Swap | Window | Group
+Step = Patch | Turn | Swap | Window | Respace | Group
 
 
 class VoxelHistory:

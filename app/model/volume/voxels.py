@@ -3,6 +3,7 @@ the volume's painting and history, with a record of the boxes changed for consum
 from __future__ import annotations
 
 import hashlib
+import math
 import operator
 import os
 from collections import deque
@@ -17,6 +18,10 @@ from app.model.volume.scalars import Scalars, TransferFunction, colour
 AXES = ("x", "y", "z")
 MAX_SIDE = 4096          # voxels a side; also the largest brush
 CHANGE_RECORDS = 4096    # consumers further behind than this many changes get the full box
+# A voxel's sides (x, y, z) in the file's length unit (mm for CT, MRI and NIfTI): the box has the physical shape.
+Spacing = tuple[float, float, float]
+DEFAULT_SPACING: Spacing = (1.0, 1.0, 1.0)
+MIN_SPACING, MAX_SPACING = 1e-6, 1e6  # a scan in metres or in micrometres fits either way
 _ARRAY_AXIS = {"z": 0, "y": 1, "x": 2}          # axis name -> axis of Voxels.data
 _ROT90_AXES = {"z": (2, 1), "x": (1, 0), "y": (0, 2)}  # np.rot90 axes turning x->y, y->z, z->x respectively
 
@@ -90,6 +95,15 @@ def check_size(w: int, h: int, d: int, scalar_bytes: int = 0) -> None:
                           f" over the {_fmt_bytes(MAX_BYTES)} limit")
 
 
+def check_spacing(sx: float, sy: float, sz: float) -> Spacing:
+    """(sx, sy, sz) as floats, if each is finite and within MIN_SPACING..MAX_SPACING; else VolumeError."""
+    spacing = tuple(float(s) for s in (sx, sy, sz))
+    if not all(math.isfinite(s) and MIN_SPACING <= s <= MAX_SPACING for s in spacing):
+        raise VolumeError(f"each spacing must be within {MIN_SPACING:g}..{MAX_SPACING:g}, got "
+                          f"{' '.join(f'{s:g}' for s in spacing)}")
+    return spacing
+
+
 def whole(name: str, value: object) -> int:
     try:
         return operator.index(value)
@@ -123,13 +137,15 @@ def own_rgba(data: np.ndarray) -> np.ndarray:
 
 class Voxels:
     """The RGBA voxels (`data`, indexed z, y, x) and, for a volume loaded from scalars, those `scalars`: the voxels
-    are their colours through its transfer function. `version` counts changes; `changed_since` says where.
+    are their colours through its transfer function; the `spacing` of the voxels (x, y, z), which the box's shape
+    follows. `version` counts changes; `changed_since` says where.
 
     Whoever writes `data` (the painting, the history) marks the box with `changed`; the other writes here do."""
 
     def __init__(self, data: np.ndarray) -> None:
         self.data = own_rgba(data)
         self.scalars: Scalars | None = None
+        self.spacing = DEFAULT_SPACING
         self.version = 0
         self._log: deque[tuple[int, Box | None]] = deque()  # (version, changed box or None = everything)
         self._log_floor = 0  # the log holds every change after this version
@@ -148,6 +164,11 @@ class Voxels:
     def slice_size(self, axis: str) -> tuple[int, int]:
         w, h, d = self.size
         return {"z": (w, h), "y": (w, d), "x": (h, d)}[check_axis(axis)]
+
+    def slice_spacing(self, axis: str) -> tuple[float, float]:
+        """The spacing along a slice's u and v (as slice_size orders them)."""
+        sx, sy, sz = self.spacing
+        return {"z": (sx, sy), "y": (sx, sz), "x": (sy, sz)}[check_axis(axis)]
 
     def depth(self, axis: str) -> int:
         return self.data.shape[_ARRAY_AXIS[check_axis(axis)]]
@@ -193,6 +214,8 @@ class Voxels:
 
     def digest(self) -> str:
         h = hashlib.sha256("{}x{}x{};".format(*self.size).encode())
+        if self.spacing != DEFAULT_SPACING:  # only then: a volume of 1 1 1 keeps the digest it had before spacing
+            h.update("spacing {!r} {!r} {!r};".format(*self.spacing).encode())
         if self.scalars is None:
             h.update(self.data.data)
         else:  # the colours follow from the values and the window: hashing them too would add 4 bytes a voxel
@@ -223,19 +246,29 @@ class Voxels:
             self._log_floor = self._log.popleft()[0]
 
     def turn(self, axis: str, turns: int) -> None:
-        """Quarter turns about an axis, the scalars with the voxels."""
+        """Quarter turns about an axis, the scalars and the spacing with the voxels."""
         self.data = np.ascontiguousarray(np.rot90(self.data, turns, axes=_ROT90_AXES[axis]))
+        if turns % 2:  # the two axes across the turning one trade places
+            sx, sy, sz = self.spacing
+            self.spacing = {"x": (sx, sz, sy), "y": (sz, sy, sx), "z": (sy, sx, sz)}[axis]
         if self.scalars is not None:
             values = np.ascontiguousarray(np.rot90(self.scalars.values, turns, axes=_ROT90_AXES[axis]))
             values.flags.writeable = False
             self.scalars = Scalars(values, self.scalars.transfer)
         self.changed(None)
 
-    def swap(self, data: np.ndarray, scalars: Scalars | None) -> tuple[np.ndarray, Scalars | None]:
+    def swap(self, data: np.ndarray, scalars: Scalars | None,
+             spacing: Spacing = DEFAULT_SPACING) -> tuple[np.ndarray, Scalars | None, Spacing]:
         """Show another whole image (checked by the caller); returns the one shown before."""
-        shown = self.data, self.scalars
-        self.data, self.scalars = data, scalars
+        shown = self.data, self.scalars, self.spacing
+        self.data, self.scalars, self.spacing = data, scalars, spacing
         self.changed(None)
+        return shown
+
+    def respace(self, spacing: Spacing) -> Spacing:
+        """Give the voxels another spacing (checked by the caller); returns the one before. No voxel changes, so
+        `version` stays (nothing is uploaded again); the workspace's version shows the box's new shape."""
+        shown, self.spacing = self.spacing, spacing
         return shown
 
     def recolour(self, transfer: TransferFunction) -> None:

@@ -7,7 +7,7 @@ from typing import Callable
 import numpy as np
 
 from app.model.volume.volume import Volume
-from app.model.volume.voxels import Voxels
+from app.model.volume.voxels import DEFAULT_SPACING, Voxels
 from app.model.volume.samples import make
 from app.model.framing import orbit_distance
 from app.model.volume.view import VolumeView, box_extents
@@ -67,7 +67,7 @@ class VolumeWorkspace(Workspace):
         self.clamp_slice()
 
     def version(self) -> tuple:
-        return self.volume.voxels.version, self.view.key()
+        return self.volume.voxels.version, self.volume.voxels.spacing, self.view.key()
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
@@ -77,13 +77,14 @@ class VolumeWorkspace(Workspace):
 
     def frame_commands(self, aspect: float) -> list[str]:
         cam = self.view.camera
-        extent = np.array(box_extents(self.volume.voxels.size))
+        extent = np.array(box_extents(self.volume.voxels.size, self.volume.voxels.spacing))
         distance = orbit_distance(cam, -extent, extent, aspect)
         return [f"orbit {cam.yaw!r} {cam.pitch!r} {distance!r}"]
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
-        snapshot file beside the demo, a scalar volume's scalars into an .npy and its window into commands."""
+        snapshot file beside the demo, a scalar volume's scalars into an .npy and its window and spacing into
+        commands."""
         v, scalars = self.view, self.volume.voxels.scalars
         if scalars is not None:
             t = scalars.transfer
@@ -93,6 +94,8 @@ class VolumeWorkspace(Workspace):
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
             lines = [f"load {snapshot()}"]
+        if (spacing := self.volume.voxels.spacing) != DEFAULT_SPACING:  # a snapshot keeps the voxels alone
+            lines.append(f"vol.spacing {' '.join(map(repr, spacing))}")
         return lines + [
             f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
             f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",
