@@ -85,11 +85,14 @@ def truth(triangles: int, size: tuple[int, int]) -> Truth:
 
     result = render(scene_of(triangles), CAMERA, size)
     shadow = result.facing & ~result.visible
-    # its boundary, both sides (a shadowed pixel beside a lit one and that lit one), then a pixel around it
-    edge = np.stack([ndimage.binary_dilation((s ^ ndimage.binary_erosion(s, border_value=1)) |
-                                             (ndimage.binary_dilation(s) ^ s), np.ones((3, 3), bool))
-                     for s in shadow])
-    return Truth(result.facing, shadow, edge)
+    return Truth(result.facing, shadow, np.stack([shadow_edges(s) for s in shadow]))
+
+
+def shadow_edges(shadow: np.ndarray) -> np.ndarray:
+    """Within 1 px of where a shadow (H, W) begins or ends: its boundary, both sides (a shadowed pixel beside a
+    lit one and that lit one), then a pixel around it."""
+    boundary = (shadow ^ ndimage.binary_erosion(shadow, border_value=1)) | (ndimage.binary_dilation(shadow) ^ shadow)
+    return ndimage.binary_dilation(boundary, np.ones((3, 3), bool))
 
 
 class Shared:

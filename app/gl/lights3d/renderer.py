@@ -13,7 +13,8 @@ the host's framebuffer has), then copied into the host's framebuffer:
 Every pass goes through stencil_state and blending, which put back whatever GL state they set.
 
 The light formulas are app.model.lights3d.scene's, in resources/shaders/lights3d.shl. A shadowed light (any method
-but none) reaches only faces whose geometric normal faces it, as the reference's; only closed meshes cast.
+but none) reaches only faces that face it (app/model/lights3d/facing.py), as the reference's; only closed meshes
+cast.
 Work follows the scene and the view: meshes upload when their object changes (lights3d_meshes.py), volumes are
 built and uploaded when their caster or light changes and drawn from their own buffers while they stay
 (lights3d_volumes.py), a light whose reach lies outside the view is skipped, each light's passes are scissored
@@ -42,6 +43,7 @@ from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.camera3d import OrbitCamera
+from app.model.lights3d.facing import IN_PLANE
 from app.model.lights3d.scene import BACKGROUND, Light3D, Scene3D
 from app.model.lights3d.render_settings import Lights3DRenderSettings
 from app.model.transforms import gl_matrix
@@ -213,7 +215,7 @@ class Lights3DRenderer:
         self._light_uniforms(program, light, view_proj)
         values = {"u_light_colour": tuple(light.colour), "u_eye": tuple(camera.position()),
                   "u_shininess": scene.shininess, "u_specular": scene.specular,
-                  "u_facing_test": method.shadows, "u_reach_mask": settings.debug == "mask"}
+                  "u_facing_test": method.shadows, "u_in_plane": IN_PLANE, "u_reach_mask": settings.debug == "mask"}
         set_uniforms(program, values)
         if method.shadow_map:
             self.maps[index].bind(program, settings.bias, settings.pcf)
