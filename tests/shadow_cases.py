@@ -1,6 +1,7 @@
 """The 3D lights' hard shadow cases (issue 29) as scenes of the product, and how a method's shadow is judged
-against the CPU reference (app/reference/lights3d.py): a light on a box's corner, on the sphere's pole vertex,
-on a box's edge, on a face, level with a face, and the camera looking along a point light's rays past a caster.
+against the CPU reference (app/reference/lights3d.py): a light on a box's corner, on the sphere's pole vertex and
+on another of its vertices, on a box's edge, on a face, level with a face (and the default scene's point light,
+level with the L-prism's top), and the camera looking along a point light's rays past the casters.
 
 A case's measure is the bench's (app/bench/shadows.py): over the pixels the reference says the light faces and
 reaches, the GPU's shadow against the reference's `facing & ~visible`; the mismatches more than a pixel from a
@@ -42,9 +43,11 @@ class Case:
 
 
 VIEW = camera_at((-20.0, 140.0, 170.0), (-10.0, 5.0, 0.0))  # above the box and the sphere, their shadows in view
+SPHERE_VERTEX = tuple(SPHERE.mesh().positions[1 + 3 * 32 + 24])  # 45 degrees from the pole, towards the camera
 CASES = {c.name: c for c in (
     Case("light on a box corner", Scene3D((GROUND, BOX, SPHERE), (lamp(-10.0, 30.0, 15.0),)), VIEW),
     Case("light on the sphere's pole", Scene3D((GROUND, BOX, SPHERE), (lamp(10.0, 36.0, 0.0),)), VIEW),
+    Case("light on a sphere vertex", Scene3D((GROUND, BOX, SPHERE), (lamp(*SPHERE_VERTEX),)), VIEW),
     Case("light on a box edge", Scene3D((GROUND, BOX, SPHERE), (lamp(-10.0, 30.0, 4.0),)), VIEW),
     # seen from the lit side: all beyond the face's plane is in its shadow (an eye there is inside the volume)
     Case("light on a box face", Scene3D((GROUND, BOX, SPHERE), (lamp(-10.0, 12.0, 3.0),)),
@@ -81,3 +84,19 @@ def judge(mask: np.ndarray, ref: reference.Result, light: int = 0) -> Judged:
     shadow = region & ~ref.visible[light]
     wrong = (mask != shadow) & region
     return Judged(int(shadow.sum()), int(wrong.sum()), int((wrong & ~shadow_edges(shadow)).sum()))
+
+
+def near_a_jump(ref: reference.Result, eye) -> np.ndarray:
+    """Pixels beside a silhouette: a 4-neighbour shows another object, or a surface over 5% nearer or farther
+    (the torus in front of itself). Their centres lie within a pixel of the edge, where the float32 raster and
+    the float64 ray may each pick the triangle on their own side."""
+    distance = np.linalg.norm(ref.position - np.asarray(eye), axis=-1)
+    jump = np.zeros(ref.object_id.shape, bool)
+    before, after = slice(None, -1), slice(1, None)
+    for a, b in (((before,), (after,)), ((slice(None), before), (slice(None), after))):  # rows, then columns
+        with np.errstate(invalid="ignore"):  # the background's distance is NaN: its id tells
+            step = (ref.object_id[a] != ref.object_id[b]) | (
+                np.abs(distance[a] - distance[b]) > 0.05 * np.fmin(distance[a], distance[b]))
+        jump[a] |= step
+        jump[b] |= step
+    return jump

@@ -30,8 +30,9 @@ import moderngl
 import numpy as np
 
 from app.gl.core.blending import blending
-from app.gl.lights3d.light_reach import (frustum_planes, light_in_view, reach_box, reaches, screen_rect, sphere_in_view,
-                                         union)
+from app.gl.core.depth_bounds import available as has_depth_bounds
+from app.gl.lights3d.light_reach import (depth_range, frustum_planes, light_in_view, reach_box, reaches, screen_rect,
+                                         span, sphere_in_view, union)
 from app.gl.lights3d.meshes import ObjectBuffer, ObjectBuffers
 from app.gl.lights3d.overlay import Overlay
 from app.gl.lights3d.caster_volumes import VolumeCache, build
@@ -77,6 +78,7 @@ class FrameStats:
     lights_drawn: int = 0
     lights_skipped: int = 0    # their reach outside the view, or nothing of what they reach in it
     scissor_pixels: int = 0    # the pixels of the lights drawn: their reach's box on screen, summed
+    depth_bounded: int = 0     # stencil passes clamped to their light's reach in depth (where GL has depth bounds)
     volumes_built: int = 0     # caster volumes built and uploaded (the others kept from earlier frames, on the GPU)
     volume_bytes: int = 0      # volume vertices sent to the GPU: the built ones' alone
     volumes_drawn: int = 0     # caster volumes marked in the stencil, over every light
@@ -94,6 +96,7 @@ class MaskStats:
     build_ms: float            # the volumes built on the CPU
     draw_ms: float             # the stencil marked, or the map drawn and read over the view (GPU, finished)
     visibility: np.ndarray | None = None  # map: the share of PCF taps that see the light, (H, W) top row first
+    fill_px: int = 0           # volumes: the fragments the stencil pass rasterised (ShadowVolumePass.fill)
 
 
 class Lights3DRenderer:
@@ -108,6 +111,7 @@ class Lights3DRenderer:
         self.units = TextureUnits()  # its passes' samplers and its shadow maps'
         self.target: StencilTarget | None = None
         self.frame = FrameStats()
+        self.depth_bounds = has_depth_bounds(ctx)  # the stencil passes clamped in depth too (llvmpipe: no)
         self._fullscreen = VertexArrays(lambda program: ctx.vertex_array(program, []))
 
     # ---- a frame ------------------------------------------------------------------------------------
@@ -141,14 +145,13 @@ class Lights3DRenderer:
         for index, light in lights:
             reached = [b for b in buffers if reaches(light, b.centre, b.radius)]
             shown = [b for b in reached if b in visible]
-            # the pixels it can light: its reach within the objects it reaches in view
-            rect = union(screen_rect(view_proj, camera.NEAR, *reach_box(light, b.lo, b.hi), fbo.size)
-                         for b in shown) if light_in_view(light, planes) else None
-            if rect is None:
+            reach = self._reach(light, shown, view_proj, planes, camera.NEAR, fbo.size)
+            if reach is None:
                 stats.lights_skipped += 1
                 continue
+            rect, bounds = reach
             target.fbo.scissor = rect  # applied by each pass's use() of the target, the stencil's too
-            self._shadow(target, index, light, reached, buffers, view_proj, settings, stats)
+            self._shadow(target, index, light, reached, buffers, view_proj, settings, stats, bounds)
             if debug == "stencil":
                 self._stencil_view(target.fbo)
             else:
@@ -192,15 +195,30 @@ class Lights3DRenderer:
                 program["u_albedo"].value = tuple(b.obj.colour)
                 b.render(program)
 
+    @staticmethod
+    def _reach(light: Light3D, shown, view_proj, planes, near: float, size) -> tuple[tuple, tuple | None] | None:
+        """Where the light can light in view: its reach within the objects it reaches there (`shown`), as a
+        scissor rectangle and a span of window depths (its stencil pass's depth bounds); None where that is
+        nothing."""
+        if not light_in_view(light, planes):
+            return None
+        boxes = [reach_box(light, b.lo, b.hi) for b in shown]
+        rect = union(screen_rect(view_proj, near, lo, hi, size) for lo, hi in boxes)
+        if rect is None:
+            return None
+        return rect, span(depth_range(view_proj, near, lo, hi) for lo, hi in boxes)
+
     def _shadow(self, target: StencilTarget, index: int, light: Light3D, reached, buffers, view_proj,
-                settings, stats: FrameStats) -> None:
+                settings, stats: FrameStats, bounds) -> None:
         casters = [b for b in reached if b.casts]
         method = METHODS[light.shadow]
         if method.volumes:
             clear_stencil(target.fbo)
             volumes = [self.volumes.get(light.shadow, caster.obj, light) for caster in casters]
-            stats.volume_triangles += self.volume_pass.mark_uploaded(target.fbo, light.shadow, volumes, view_proj)
+            stats.volume_triangles += self.volume_pass.mark_uploaded(target.fbo, light.shadow, volumes, view_proj,
+                                                                     bounds)
             stats.volumes_drawn += len(casters)
+            stats.depth_bounded += self.depth_bounds and bounds is not None
         elif method.shadow_map:
             if index not in self.maps:
                 self.maps[index] = ShadowMap(self.ctx, self.shaders, self.units)
@@ -260,7 +278,9 @@ class Lights3DRenderer:
                     method: str, settings: Lights3DRenderSettings | None = None) -> tuple[np.ndarray, MaskStats]:
         """Light `light_index` shadowed by `method` ("map" or a stencil method) over the scene seen by `camera`:
         (bool (H, W) top row first, True where a surface is in its shadow, the reference's pixels; the cost).
-        Volumes and maps are made anew, never kept ones, so the cost is a light's that moved. The pixels meant
+        Volumes and maps are made anew, never kept ones, so the cost is a light's that moved; the stencil is
+        marked as a frame marks it (scissored to the light's reach, clamped to its depths where GL can), and its
+        fill counted after. The pixels meant
         are those of the stencil (zpass, zfail: a count; onepass: the shadow value; back faces of casters
         included) or of the map (under half its PCF taps see the light); the caller restricts them to the
         pixels the light reaches and faces, as the reference's `facing & ~visible` means. The target stays bound
@@ -276,30 +296,37 @@ class Lights3DRenderer:
         target.clear(colour=(*BACKGROUND, 1.0))
         self._scene_pass(target.fbo, buffers, scene.ambient, view_proj)
         casters = [b for b in buffers if b.casts and reaches(light, b.centre, b.radius)]
+        planes = frustum_planes(view_proj)
+        shown = [b for b in buffers if reaches(light, b.centre, b.radius) and sphere_in_view(planes, b.centre,
+                                                                                            b.radius)]
+        rect, bounds = self._reach(light, shown, view_proj, planes, camera.NEAR, size) or (None, None)
         if shadow.shadow_map:  # its texture made before the clock starts: drawing a map is timed, not allocating it
             self.mask_map = self.mask_map or ShadowMap(self.ctx, self.shaders, self.units)
             self.mask_map.reserve(light, scene_bounds(buffers), settings.map_size, settings.pcf)
         self.ctx.finish()
         start = time.perf_counter()
         if shadow.volumes:
-            geometries = [build(method, c.obj, light) for c in casters]
+            geometries = [build(method, c.obj, light) for c in casters] if rect else []  # else it lights nothing
             built = time.perf_counter()
             clear_stencil(target.fbo)
-            triangles = self.volume_pass.mark(target.fbo, method, geometries, view_proj)
+            target.fbo.scissor = rect
+            triangles = self.volume_pass.mark(target.fbo, method, geometries, view_proj, bounds)
             self.ctx.finish()
             done = time.perf_counter()
             mask, visibility = shadowed(method, target.read_stencil()), None
             edges = sum(g.extruded_edges for g in geometries)
+            fill = self.volume_pass.fill(target.fbo, method, geometries, view_proj, bounds)
+            target.fbo.scissor = None
         elif shadow.shadow_map:
             built = start
             visibility = self._map_visibility(target, light, casters, buffers, view_proj, settings)
             done = time.perf_counter()
-            mask, triangles, edges = visibility < 0.5, 0, 0
+            mask, triangles, edges, fill = visibility < 0.5, 0, 0, 0
         else:
             raise ValueError(f"shadow_mask measures the stencil methods and map, not {method!r}")
         mask &= target.read_depth() < 1.0
         return mask, MaskStats(len(casters), triangles, edges, (built - start) * 1e3, (done - built) * 1e3,
-                               visibility)
+                               visibility, fill)
 
     def _map_visibility(self, target: StencilTarget, light: Light3D, casters, buffers, view_proj,
                         settings) -> np.ndarray:

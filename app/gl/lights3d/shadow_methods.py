@@ -3,17 +3,18 @@ with or without caps, or a depth map from the light), how the volumes mark the s
 then lights. The renderer, the shadow volume pass and the shadows bench read them here alone; their names are the
 model's SHADOW_METHODS (Light3D.shadow: commands, scene files and bench CSVs say them), in the same order.
 
-- onepass (seed 002, closed): the volume of every caster triangle, both faces alike, in one pass: stencil
+- onepass (seed 002, closed): the volume of each caster triangle, both faces alike, in one pass: stencil
   NOTEQUAL ref 0xFC, read and write masks 0xFD, sfail KEEP, zfail INVERT, zpass INCR, depth LESS. Bit 1 is never
   written, so from 0 a depth pass gives 1 and a second pass 2 & 0xFD = 0 (INCR toggles bit 0); a depth fail
   gives ~0 & 0xFD = 0xFD and a second one 0 (INVERT toggles 0 <-> 0xFD). One of each, in either order, gives
   0xFC (1 then INVERT: 0xFE & 0xFD; 0xFD then INCR: 0xFE & 0xFD), which equals the reference under the read
   mask, so the test fails from then on and nothing un-shadows it. Shadowed: stencil == 0xFC (SHADOW_VALUE).
   Each triangle's prism is closed at infinity by its far cap (8 triangles), so a view ray that enters it leaves
-  it: one pass and one fail where the surface lies inside, two of a kind where it does not.
+  it: one pass and one fail where the surface lies inside, two of a kind where it does not. Only the triangles
+  turned from the light give one (their prisms' union is a closed caster's shadow: half the fill).
   Like zpass it has no face in front of an eye inside a volume.
-- onepass-seed: the seed's own 7 triangles, open at infinity: where a view ray runs to infinity inside a
-  prism (looking along a point light's rays) it counts the entry and never the exit.
+- onepass-seed: the seed's own 7 triangles of every caster triangle, open at infinity: where a view ray runs to
+  infinity inside a prism (looking along a point light's rays) it counts the entry and never the exit.
 - zpass: the silhouette volume without caps, two-sided: front faces INCR_WRAP, back faces DECR_WRAP where the
   depth test passes. Wrong where the eye is inside a volume or the near plane cuts one (Everitt & Kilgard), so
   it is drawn as they describe it, near and far planes clipping.

@@ -1,6 +1,6 @@
-"""Shadow volumes as vertex arrays ready to upload (numpy, vectorised): the one-pass volume of every caster
-triangle (closed, or open at infinity as seed 002 draws it), and Everitt & Kilgard's silhouette volume, capped
-for z-fail.
+"""Shadow volumes as vertex arrays ready to upload (numpy, vectorised): the one-pass volume of caster triangles
+(closed, of those turned from the light; or open at infinity, of every one, as seed 002 draws it), and Everitt &
+Kilgard's silhouette volume, capped for z-fail.
 
 A light is a homogeneous vec4 l: w = 1 for a point or spot light at l.xyz, w = 0 for a directional light shining
 from direction l.xyz. A mesh vertex p goes to infinity, away from the light, as the w = 0 vertex
@@ -139,18 +139,24 @@ def _sides(u: np.ndarray, v: np.ndarray, u_far: np.ndarray, v_far: np.ndarray) -
 
 
 def onepass_volume(positions, triangles, light, closed: bool = True) -> VolumeGeometry:
-    """Seed 002: every caster triangle gives its prism away from the light, in caster order: the triangle
-    itself (the seed's 7th triangle, which makes a caster's own pixels fail the depth test LESS once more), the
-    6 of the 3 quads from its edges to infinity and, `closed`, its far cap at infinity (8 in all), so that a
-    view ray that enters the prism leaves it too. The seed's (not `closed`) is open at the far end: a ray that
-    runs to infinity inside it counts its entry and never its exit. Closed, a triangle with the light in its
-    plane is left out (its prism is flat: nothing lies inside it). Orientation is whatever falls out (outward
-    for light-facing casters, inward for the others): the method draws both faces alike. Keep each caster's
-    triangles together when reordering: the seed's order freedom holds within them, not across casters."""
+    """Seed 002: caster triangles give their prisms away from the light, in caster order: the triangle itself
+    (the seed's 7th triangle, which makes a caster's own pixels fail the depth test LESS once more) and the 6 of
+    the 3 quads from its edges to infinity, for every caster triangle as the seed draws them (not `closed`).
+    Open at the far end, a prism that a view ray runs to infinity inside counts the ray's entry and never its exit.
+
+    `closed`: each prism also gets its far cap at infinity (8 triangles), so that a view ray that enters it
+    leaves it too, and only the triangles turned from the light give one: a segment from the light to a point in
+    the shadow of a closed caster leaves the caster through such a triangle, so their prisms' union is the
+    shadow, at about half the triangles and the fill. A triangle with the light in its plane gives none (its
+    prism is flat: nothing lies inside it).
+
+    Orientation is whatever falls out (outward for light-facing casters, inward for the others): the method
+    draws both faces alike. Keep each caster's triangles together when reordering: the seed's order freedom
+    holds within them, not across casters."""
     positions, triangles = _mesh(positions, triangles)
     light = light_vector(light)
     if closed:
-        triangles = triangles[~_flat(positions, triangles, light)]
+        triangles = triangles[~_facing(positions, triangles, light) & ~_flat(positions, triangles, light)]
     corners = positions[triangles]                       # (T, 3 corners, 3)
     near, far = _homogeneous(corners, 1.0), _extruded(corners, light)
     # edge k runs from corner k to corner k + 1
