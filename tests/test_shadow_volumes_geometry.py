@@ -174,6 +174,16 @@ def test_a_light_on_the_mesh_or_in_a_faces_plane_keeps_the_volumes_closed_and_pl
         assert closed_surfaces(prism)
 
 
+@pytest.mark.parametrize("height, faces", [(0.0, False), (2e-6, False), (-2e-6, False), (1e-3, True), (-1e-3, False)])
+def test_a_light_within_the_in_plane_margin_of_a_face_is_behind_it(height, faces):
+    """app/model/lights3d/facing.py: lit only above the plane by more than IN_PLANE of the way to the light (the
+    sine of its elevation; 2e-6 of 10 units is 2e-7 of it)."""
+    positions, triangles = UNIT_BOX
+    light = np.array([10.0, 1.0 + height, 0.3, 1.0])  # level with the top face (y = 1), far off its side
+    top = np.flatnonzero(positions[triangles][:, :, 1].min(axis=1) == 1.0)
+    assert (facing_light(positions, triangles, light)[top] == faces).all()
+
+
 @pytest.mark.parametrize("case", ["box corner", "box edge", "box face", "sphere pole"])
 def test_a_light_on_the_mesh_still_gives_z_pass_a_volume(case):
     """Every face is behind such a light (none faces it: no silhouette), yet the volume has finite faces: the
