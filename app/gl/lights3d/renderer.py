@@ -1,12 +1,13 @@
 """The 3D lights renderer (seeds 004 and 002): per-pixel point, spot and directional lights, each shadowed its
-own way (Light3D.shadow, one of app/gl/lights3d/shadow_methods.py): stencil volumes (onepass, zpass, zfail:
+own way (Light3D.shadow, one of app/gl/lights3d/shadow_methods.py): stencil volumes (onepass, zpass, zfail...:
 app/gl/lights3d/shadow_volume_pass.py), a shadow map with PCF (app/gl/lights3d/shadow_map.py) or none.
 
 A frame is drawn into its own target, float colour and DEPTH24_STENCIL8 at the output's size (whatever stencil
 the host's framebuffer has), then copied into the host's framebuffer:
 1. depth pre-pass, coloured by the ambient light (depth LESS);
 2. per light whose reach the view may see, scissored to its reach's box on screen: its shadow (the stencil
-   cleared and every caster's volume marked in it, or its map drawn unless the last one still holds), then its
+   cleared and every caster's volume marked in it, within the reach's window depths where GL has the depth
+   bounds test, or its map drawn unless the last one still holds), then its
    light added (blend ONE, ONE) on the pixels the pre-pass left (depth EQUAL: the same vertex shader,
    invariant), restricted by the stencil or the map;
 3. the editor's marks on top (app/gl/lights3d/overlay.py), then the copy, clamped to 0..1.
