@@ -11,14 +11,19 @@ triangles each). Per method and setting:
   map's PCF taps seeing the light); `mismatch_off_edge_pct`: those not within 1 px of a shadow edge of the
   reference (a pixel of its mask beside one not in it, dilated by a pixel); rmse is the square root of the
   mismatched share of all pixels (lights together), so that the harness's chart plots it against time;
-- `volume_triangles`: the stencil's fill cost, the volume triangles drawn for both lights (onepass: seed 002's 7
-  per caster triangle; zpass: the silhouettes' quads; zfail: those and both caps), beside `caster_triangles`
-  (within the lights' reach) and `extruded_edges`; `shadow_ms`: one light after another, the volumes built
-  (`build_ms`, numpy) and marked, or the map drawn and read (shadow_mask's cost).
+- `volume_triangles`: the volume triangles drawn for both lights (onepass: 8 per caster triangle, seed 002's 7
+  and a far cap; onepass-seed: the 7; zpass: the silhouettes' quads; zfail: those and both caps), beside
+  `caster_triangles` (within the lights' reach) and `extruded_edges`; `fill_px`: the stencil's fill cost, the
+  fragments the volume draws rasterise for both lights within each light's scissor rectangle and depth bounds,
+  whether their depth test passes or fails (ShadowVolumePass.fill: an occlusion query over the same draw with
+  every test passing; 0 for the map); `depth_bounds`: 1 where the context has the depth bounds test, so the
+  passes were clamped to the lights' depths too (llvmpipe: 0, the scissor alone);
+- `shadow_ms`: one light after another, the volumes built (`build_ms`, numpy) and marked in the stencil
+  (`draw_ms`, finished), or the map drawn and read (shadow_mask's cost).
 
-Methods: every one that shadows (app/gl/lights3d/shadow_methods.py: onepass, zpass, zfail and map, the
-renderer's default map: 1024 texels, PCF 3, bias 0.0002, 3 cascades) against the triangles; the map's size as its
-own series at PCF 1, 3 and 5 (the default bias); the bias as a series at 1024 texels, PCF 3; a directional
+Methods: every one that shadows (app/gl/lights3d/shadow_methods.py: onepass, onepass-seed, zpass, zfail and map,
+the renderer's default map: 1024 texels, PCF 3, bias 0.0002, 3 cascades) against the triangles; the map's size as
+its own series at PCF 1, 3 and 5 (the default bias); the bias as a series at 1024 texels, PCF 3; a directional
 light's cascades as a series (`map cascades`, 1 to 4) on the scene with app/bench/map_texels.py's sun besides its
 two lights, all three judged. The map's rows say `texels_px` too: the texels a screen pixel's footprint covers in
 the map, median over the pixels the lights face and reach (app/bench/map_texels.py), and `cascades`.
@@ -183,7 +188,9 @@ class ShadowsBench:
                     "extruded_edges": sum(c.extruded_edges for c in costs),
                     "caster_triangles": caster_triangles(scene),
                     "scene_triangles": scene.triangles, "map_size": s.map.map_size, "pcf": s.map.pcf,
-                    "bias": s.map.bias, **maps}
+                    "bias": s.map.bias,  # the columns since issue 29 after the older ones:
+                    "draw_ms": sum(c.draw_ms for c in costs), "fill_px": sum(c.fill_px for c in costs),
+                    "depth_bounds": int(renderer.depth_bounds), **maps}
 
         return Method(name, knob, tuple(values), setup, render, output, quick_values=tuple(values),
                       reference=reference, stats=stats)
@@ -203,7 +210,7 @@ class ShadowsBench:
 
 
 def caster_triangles(scene: Scene3D) -> int:
-    """The closed meshes' triangles within each light's reach, summed over the lights (onepass draws 7 each)."""
+    """The closed meshes' triangles within each light's reach, summed over the lights (onepass draws 8 each)."""
     total = 0
     for obj in scene.objects:
         total += sum(obj.triangles for light in scene.lights
