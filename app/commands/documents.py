@@ -152,6 +152,11 @@ class Documents:
         """Every suffix some workspace's files have."""
         return tuple(sorted({x for state in self.workspaces if state.files is not None for x in state.files.suffixes}))
 
+    def written_suffixes(self) -> tuple[str, ...]:
+        """The suffixes some workspace writes (those of `suffixes` not only read): what a snapshot may be."""
+        return tuple(sorted({x for state in self.workspaces if state.files is not None
+                             for x in state.files.suffixes if x not in state.files.read_only}))
+
     def track(self) -> None:
         """Each workspace's own verbs that replace its scene (SceneFiles.replacing) ask first and leave it
         untitled; its own load and save verbs (SceneFiles.verbs) name the file they return, the one they read
