@@ -10,7 +10,7 @@ from app.gl.volume.raytracer import RayTracer
 from app.model.camera3d import OrbitCamera
 from app.model.volume.phantom import ct_phantom
 from app.model.volume.render_modes import TraceSettings
-from app.model.volume.scalar_modes import SCALAR_MODES
+from app.model.volume.scalar_modes import SCALAR_MODES, brick_maxima
 from app.model.volume.scalars import TransferFunction
 from app.model.volume.view import VolumeView
 from app.model.volume.volume import Volume
@@ -155,3 +155,24 @@ def test_the_camera_inside_the_volume(gl, tracer, phantom):
     for mode in ("mip", "translucent", "iso"):
         image = gpu(gl, tracer, volume, mode, view=inside)
         assert rmse(image, cpu(phantom, mode, view=inside)) < 0.01, mode
+
+
+def test_each_brick_holds_the_greatest_value_a_sample_in_it_reads():
+    rng = np.random.default_rng(5)
+    for values in (rng.integers(-1000, 1000, (19, 13, 21)).astype(np.int16), rng.normal(size=(9, 17, 4))):
+        values[0, 0, 0] = np.nan if values.dtype.kind == "f" else values[0, 0, 0]
+        maxima = brick_maxima(values, 4)
+        drawn = np.nan_to_num(values, nan=np.nanmin(values))
+        d, h, w = values.shape
+        for z, y, x in np.ndindex(*maxima.shape):
+            rim = drawn[max(0, 4 * z - 1):4 * z + 5, max(0, 4 * y - 1):4 * y + 5, max(0, 4 * x - 1):4 * x + 5]
+            assert maxima[z, y, x] == np.float32(rim.max())
+
+
+def test_iso_skips_bricks_yet_finds_a_lone_voxel(gl, tracer):
+    values = np.full((40, 40, 40), -1000, np.int16)
+    values[21, 17, 22] = 2000  # one voxel: every brick but its own and its rim's skipped
+    near, white = VolumeView(camera=OrbitCamera(0, 0, 1.5)), TransferFunction(-1000.0, 0.0)  # the iso value white
+    image = gpu(gl, tracer, scalar_volume(values, white), "iso", iso=0.0, view=near)
+    assert rmse(image, cpu(values, "iso", iso=0.0, view=near, transfer=white)) < 0.006
+    assert (np.abs(image - np.array(VIEW.background) / 255.0).max(-1) > 0.2).sum() >= 2  # a third of a voxel across

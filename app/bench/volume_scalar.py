@@ -1,7 +1,8 @@
 """The scalar render modes in `shadelab bench volume`: rows `scalar <mode>` (app/model/volume/scalar_modes.py) on
 a CT-like phantom (int16 HU, app/model/volume/phantom.py), knob cl_steps, each against its CPU reference
-(app/reference/volume_scalar.py) at the F-modes' reference steps. The window is the phantom's bone window, the iso
-value the ribs' edge; the camera sees the chest from a corner."""
+(app/reference/volume_scalar.py) at the F-modes' reference steps. The window is a bone window (minip's sees air
+against the scanner's outside, average's air and tissue), the iso value bone's edge; the camera sees the chest from
+a corner."""
 from __future__ import annotations
 
 from functools import lru_cache
@@ -24,13 +25,18 @@ from app.resources import SHADERS
 
 SCENE = "ct phantom"
 WINDOW = TransferFunction(-200.0, 1200.0, "bone")  # soft tissue faint, bone bright
+WINDOWS = {"minip": TransferFunction(-3100.0, -900.0), "average": TransferFunction(-1100.0, 100.0)}
 ISO = 300.0                                        # HU: bone's surface
 VIEW = VolumeView(camera=OrbitCamera(yaw=30, pitch=20, distance=4.6), background=(0, 0, 0))
 
 
-def phantom_volume(side: int) -> Volume:
+def window(mode: str) -> TransferFunction:
+    return WINDOWS.get(mode, WINDOW)
+
+
+def phantom_volume(side: int, transfer: TransferFunction = WINDOW) -> Volume:
     volume = Volume.new(1, 1, 1)
-    volume.replace_scalars(ct_phantom(side), WINDOW, copy=False)
+    volume.replace_scalars(ct_phantom(side), transfer, copy=False)
     return volume
 
 
@@ -41,7 +47,7 @@ def settings(mode: str, steps: float) -> TraceSettings:
 
 @lru_cache(maxsize=None)
 def reference(side: int, mode: str, size: tuple[int, int], steps: int) -> np.ndarray:
-    return reference_render(ct_phantom(side), WINDOW, VIEW.camera, size, mode, steps, iso=ISO,
+    return reference_render(ct_phantom(side), window(mode), VIEW.camera, size, mode, steps, iso=ISO,
                             shadow_steps=steps // 6, background=np.array(VIEW.background) / 255.0)
 
 
@@ -49,12 +55,14 @@ def scalar_rows(ctx, side: int, size: tuple[int, int], runs: int, steps: tuple[i
                 progress) -> list[Row]:
     """Every scalar mode at every cl_steps, on the phantom: time per frame (the modes' frames in turn, as the
     harness interleaves) and the error against the reference."""
-    tracer = RayTracer(ctx, ShaderLibrary(ctx, [SHADERS]))
+    shaders = ShaderLibrary(ctx, [SHADERS])
     target = OffscreenTarget(ctx, size)
-    voxels = phantom_volume(side).voxels
     modes = SCALAR_MODES[1:]
+    voxels = {mode: phantom_volume(side, window(mode)).voxels for mode in modes}
+    tracers = {mode: RayTracer(ctx, shaders) for mode in modes}  # each keeps its volume's textures, as the editor's
     try:
-        draws = {(mode, s): (lambda mode=mode, s=s: tracer.render(target.fbo, voxels, VIEW, settings(mode, s)))
+        draws = {(mode, s): (lambda mode=mode, s=s: tracers[mode].render(target.fbo, voxels[mode], VIEW,
+                                                                         settings(mode, s)))
                  for mode in modes for s in steps}
         rows = []
         for (mode, s), timing in frame_timings(ctx, draws, runs).items():

@@ -177,7 +177,7 @@ class RayTracer:
         else:
             program = self.shaders.program("raytrace")
             uniforms.update(u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)), u_scalar_mode=0)
-            uniforms.update(self.units.uniforms("u_colormap", "u_opacity"))  # unread: their own units
+            uniforms.update(self.units.uniforms("u_colormap", "u_opacity", "u_bricks"))  # unread: their own units
             set_uniforms(program, uniforms)
             fbo.use()
             self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
@@ -194,7 +194,7 @@ class RayTracer:
                         u_field=int(settings.scalar_mode == ISO_MODE),
                         u_mip_attenuation=float(settings.mip_attenuation))
         uniforms.update(self.units.bind(u_scalars=self.scalars.values, u_colormap=self.scalars.colours,
-                                        u_opacity=self.scalars.opacity))
+                                        u_opacity=self.scalars.opacity, u_bricks=self.scalars.bricks))
         uniforms.update(self.units.uniforms("u_volume", "u_nearest", "u_distance"))  # unread: their own units
         program = self.shaders.program("raytrace")
         set_uniforms(program, uniforms)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from app.model.volume.scalar_modes import COLOUR_LEVELS, drawable, finite_span, opacity_table
+from app.model.volume.scalar_modes import BRICK, COLOUR_LEVELS, brick_maxima, drawable, finite_span, opacity_table
 from app.model.volume.scalars import Scalars, TransferFunction
 
 # dtype -> (moderngl's format, scale and offset from the texture's 0..1 to data units, the bits that flip the sign)
@@ -27,6 +27,7 @@ class ScalarTexture:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.values: moderngl.Texture3D | None = None
+        self.bricks: moderngl.Texture3D | None = None  # each brick's greatest value (scalar_modes.brick_maxima)
         self.colours: moderngl.Texture | None = None
         self.opacity: moderngl.Texture | None = None
         self.scale, self.offset = 1.0, 0.0
@@ -43,13 +44,14 @@ class ScalarTexture:
 
     def uniforms(self, transfer: TransferFunction) -> dict:
         return {"u_value_scale": self.scale, "u_value_offset": self.offset, "u_window": (transfer.low, transfer.high),
-                "u_opacity_span": self._span, "u_opacity_entries": float(self.opacity.width)}
+                "u_opacity_span": self._span, "u_opacity_entries": float(self.opacity.width), "u_brick": float(BRICK)}
 
     def _upload(self, values: np.ndarray) -> None:
         d, h, w = values.shape
         kind, self.scale, self.offset, sign = NORMALISED.get(values.dtype, FLOAT)
         if self.values is not None:
             self.values.release()
+            self.bricks.release()
         self.values = self.ctx.texture3d((w, h, d), 1, dtype=kind)
         self.values.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.values.repeat_x = self.values.repeat_y = self.values.repeat_z = False  # clamped to the edge
@@ -62,6 +64,9 @@ class ScalarTexture:
             elif kind == "f4":
                 part = drawable(part, span)
             self.values.write(np.ascontiguousarray(part), viewport=(0, 0, z, w, h, part.shape[0]))
+        maxima = brick_maxima(values)
+        self.bricks = self.ctx.texture3d(maxima.shape[::-1], 1, maxima, dtype="f4")
+        self.bricks.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.uploaded_voxels += values.size
         self._source = values
 
