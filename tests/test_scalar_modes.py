@@ -10,7 +10,7 @@ from app.gl.volume.raytracer import RayTracer
 from app.model.camera3d import OrbitCamera
 from app.model.volume.phantom import ct_phantom
 from app.model.volume.render_modes import TraceSettings
-from app.model.volume.scalar_modes import SCALAR_MODES, brick_maxima
+from app.model.volume.scalar_modes import SCALAR_MODES, brick_maxima, clear_below, opacity_table
 from app.model.volume.scalars import TransferFunction
 from app.model.volume.view import VolumeView
 from app.model.volume.volume import Volume
@@ -176,3 +176,24 @@ def test_iso_skips_bricks_yet_finds_a_lone_voxel(gl, tracer):
     image = gpu(gl, tracer, scalar_volume(values, white), "iso", iso=0.0, view=near)
     assert rmse(image, cpu(values, "iso", iso=0.0, view=near, transfer=white)) < 0.006
     assert (np.abs(image - np.array(VIEW.background) / 255.0).max(-1) > 0.2).sum() >= 2  # a third of a voxel across
+
+
+def test_translucent_skips_only_what_the_opacity_table_reads_as_clear():
+    first, last, table = opacity_table(WINDOW.opacity())
+    assert clear_below(first, last, table) == WINDOW.low  # the ramp: clear up to the window's low
+    curve = ((0.0, 0.0), (10.0, 0.0), (10.01, 0.5), (20.0, 1.0))  # clear, then a step between two table entries
+    first, last, table = opacity_table(curve)
+    clear = clear_below(first, last, table)
+    at = lambda v: np.interp((v - first) / (last - first) * (len(table) - 1), np.arange(len(table)), table)  # noqa
+    assert at(clear) == 0.0 and at(clear + (last - first) / len(table)) > 0.0 and clear <= 10.0
+    assert clear_below(*opacity_table(((0.0, 0.1), (1.0, 1.0)))) < -1e38  # opaque from the start: nothing skipped
+    assert clear_below(*opacity_table(((0.0, 0.0), (1.0, 0.0)))) > 1e38   # clear throughout
+
+
+def test_translucent_draws_what_lies_past_a_clear_stretch(gl, tracer):
+    values = np.full((48, 24, 24), -1000, np.int16)  # air, clear through the window, around one bright slab
+    values[30:34] = 1000
+    side = VolumeView(camera=OrbitCamera(yaw=0, pitch=0, distance=3.0))
+    image = gpu(gl, tracer, scalar_volume(values), "translucent", view=side)
+    assert rmse(image, cpu(values, "translucent", view=side)) < 0.006
+    assert image.max() > 0.3

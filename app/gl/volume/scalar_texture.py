@@ -13,7 +13,8 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from app.model.volume.scalar_modes import BRICK, COLOUR_LEVELS, brick_maxima, drawable, finite_span, opacity_table
+from app.model.volume.scalar_modes import (BRICK, COLOUR_LEVELS, brick_maxima, clear_below, drawable, finite_span,
+                                          opacity_table)
 from app.model.volume.scalars import Scalars, TransferFunction
 
 # dtype -> (moderngl's format, scale and offset from the texture's 0..1 to data units, the bits that flip the sign)
@@ -36,6 +37,7 @@ class ScalarTexture:
         self._colormap: str | None = None
         self._curve: tuple | None = None
         self._span = (0.0, 1.0)
+        self._clear_below = 0.0
 
     def sync(self, scalars: Scalars) -> None:
         if scalars.values is not self._source:
@@ -44,7 +46,8 @@ class ScalarTexture:
 
     def uniforms(self, transfer: TransferFunction) -> dict:
         return {"u_value_scale": self.scale, "u_value_offset": self.offset, "u_window": (transfer.low, transfer.high),
-                "u_opacity_span": self._span, "u_opacity_entries": float(self.opacity.width), "u_brick": float(BRICK)}
+                "u_opacity_span": self._span, "u_opacity_entries": float(self.opacity.width), "u_brick": float(BRICK),
+                "u_clear_below": self._clear_below}
 
     def _upload(self, values: np.ndarray) -> None:
         d, h, w = values.shape
@@ -78,7 +81,7 @@ class ScalarTexture:
         if curve != self._curve:
             first, last, table = opacity_table(curve)
             self.opacity = self._table(self.opacity, len(table), 1, "f4", table)
-            self._curve, self._span = curve, (first, last)
+            self._curve, self._span, self._clear_below = curve, (first, last), clear_below(first, last, table)
 
     def _table(self, texture, width: int, components: int, dtype: str, data: np.ndarray) -> moderngl.Texture:
         if texture is None:

@@ -31,7 +31,7 @@ MIP_ATTENUATION = 0.05       # r_mipAttenuation's default: napari's (vispy's own
 OPAQUE = 0.995               # a translucent ray stops here: what lies behind adds at most 0.5 %
 OPACITY_TABLE = 1024         # entries of the GPU's opacity curve, from its first point's value to its last's
 COLOUR_LEVELS = 256          # the colour map's table (TransferFunction.table)
-BRICK = 8                    # voxels a side of the bricks whose value spans let iso skip samples
+BRICK = 8                    # voxels a side of the bricks whose greatest values let iso and translucent skip samples
 
 
 def mode_number(name: str) -> int:
@@ -47,6 +47,17 @@ def opacity_table(points: tuple[tuple[float, float], ...]) -> tuple[float, float
         last = first + 1.0  # one point: a constant curve
     at = np.linspace(first, last, OPACITY_TABLE)
     return first, last, np.interp(at, values, [p[1] for p in points]).astype(np.float32)
+
+
+def clear_below(first: float, last: float, table: np.ndarray) -> float:
+    """The greatest value up to which the opacity table (opacity_table's) reads 0, linear filtering included: its
+    entries are 0 from the first to this one's. Translucent skips the bricks whose greatest value is no more (air
+    below the window): they add nothing. The least float32 where the curve starts above 0."""
+    if table[0] > 0:
+        return float(np.finfo(np.float32).min)
+    zero_run = len(table) if not table.any() else int(np.argmax(table > 0))
+    return float(np.finfo(np.float32).max) if zero_run == len(table) else first + (last - first) * (
+        (zero_run - 1) / (len(table) - 1))
 
 
 def finite_span(values: np.ndarray) -> tuple[float, float]:
@@ -72,8 +83,8 @@ def drawable(values: np.ndarray, span: tuple[float, float]) -> np.ndarray:
 def brick_maxima(values: np.ndarray, brick: int = BRICK) -> np.ndarray:
     """(bricks down z, y, x) float32: the greatest value (as drawn) each brick of `brick`^3 voxels and the 1-voxel rim
     around it hold, which is every voxel a trilinear sample within the brick reads. No sample in a brick whose
-    greatest value is at most the iso value passes it: iso skips the brick, and draws exactly what it draws without
-    skipping. A z slab at a time."""
+    greatest value is at most the iso value passes it, nor is one at most clear_below's opaque at all: iso and
+    translucent skip the brick, and draw exactly what they draw without skipping. A z slab at a time."""
     d, h, w = values.shape
     cz, cy, cx = (-(-n // brick) for n in (d, h, w))
     span = finite_span(values) if values.dtype.kind == "f" else None
