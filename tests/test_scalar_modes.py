@@ -44,9 +44,8 @@ def scalar_volume(values, transfer=WINDOW) -> Volume:
 def gpu(gl, tracer, volume, scalar, view=VIEW, size=SIZE, steps=128, **settings):
     """The picture in scalar mode `scalar`; `settings` more of TraceSettings (the F-mode, shadows, lights...)."""
     target = OffscreenTarget(gl, size, samples=0)
-    settings = {"iso": ISO, **settings}
-    tracer.render(target.fbo, volume.voxels, view, TraceSettings(slice_planes=False, scalar_mode=scalar, steps=steps,
-                                                                 **settings))
+    settings = {"iso": ISO, "slice_planes": False, **settings}
+    tracer.render(target.fbo, volume.voxels, view, TraceSettings(scalar_mode=scalar, steps=steps, **settings))
     image = target.read()[..., :3] / 255.0
     target.release()
     return image
@@ -197,3 +196,12 @@ def test_translucent_draws_what_lies_past_a_clear_stretch(gl, tracer):
     image = gpu(gl, tracer, scalar_volume(values), "translucent", view=side)
     assert rmse(image, cpu(values, "translucent", view=side)) < 0.006
     assert image.max() > 0.3
+
+
+def test_the_painters_slice_shows_in_every_mode_where_nothing_hides_it(gl, tracer, phantom):
+    volume = scalar_volume(phantom)
+    view = VolumeView(camera=VIEW.camera, axis="x", index=12, highlight=("y", 12))
+    for mode in MODES:
+        plain = gpu(gl, tracer, volume, mode, view=view, iso=5000.0)  # iso: a surface nowhere, every ray through
+        planes = gpu(gl, tracer, volume, mode, view=view, iso=5000.0, slice_planes=True)
+        assert (np.abs(planes - plain).max(-1) > 0.02).sum() > 100, mode
