@@ -35,9 +35,9 @@ def phantom():
     return ct_phantom(24)
 
 
-def scalar_volume(values, transfer=WINDOW) -> Volume:
+def scalar_volume(values, transfer=WINDOW, spacing=(1.0, 1.0, 1.0)) -> Volume:
     volume = Volume.new(1, 1, 1)
-    volume.replace_scalars(values, transfer)
+    volume.replace_scalars(values, transfer, spacing=spacing)
     return volume
 
 
@@ -205,3 +205,13 @@ def test_the_painters_slice_shows_in_every_mode_where_nothing_hides_it(gl, trace
         plain = gpu(gl, tracer, volume, mode, view=view, iso=5000.0)  # iso: a surface nowhere, every ray through
         planes = gpu(gl, tracer, volume, mode, view=view, iso=5000.0, slice_planes=True)
         assert (np.abs(planes - plain).max(-1) > 0.02).sum() > 100, mode
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_spaced_voxels_take_the_box_and_steps_of_their_physical_size(gl, tracer, phantom, mode):
+    spacing = (0.8, 0.8, 2.5)  # a CT's thick slices: the box deeper than wide
+    window = WINDOWS.get(mode, WINDOW)
+    image = gpu(gl, tracer, scalar_volume(phantom, window, spacing), mode)
+    truth = cpu(phantom, mode, transfer=window, spacing=spacing)
+    assert rmse(image, truth) < 0.006
+    assert rmse(image, cpu(phantom, mode, transfer=window)) > 0.01  # not the cube it would be at 1 1 1

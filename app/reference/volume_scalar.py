@@ -13,7 +13,8 @@ from app.model.camera3d import OrbitCamera
 from app.model.volume import render_modes as rm
 from app.model.volume.scalar_modes import SCALAR_MODES, colour_of, drawable, finite_span
 from app.model.volume.scalars import TransferFunction
-from app.model.volume.view import box_extents
+from app.model.volume.view import box_extents, voxel_extent
+from app.model.volume.voxels import DEFAULT_SPACING, Spacing
 from app.reference.volume import Scene, _march, _phong, camera_rays
 
 CHUNK_SAMPLES = 1 << 21  # samples in flight at once (about 50 MiB of positions)
@@ -23,11 +24,12 @@ class ScalarScene(Scene):
     """The values as float64, with the box; a surface is where the value first exceeds `iso`."""
 
     def __init__(self, values: np.ndarray, iso: float = 0.0, sample_range: float = 1.0,
-                 shadow_offset: float = rm.SHADOW_OFFSET) -> None:
+                 shadow_offset: float = rm.SHADOW_OFFSET, spacing: Spacing = DEFAULT_SPACING) -> None:
         self.values = drawable(values, finite_span(values)).astype(np.float64)  # as the GPU holds them
         self.size = np.array(values.shape[::-1], dtype=np.float64)  # (w, h, d)
-        self.extent = np.array(box_extents(tuple(int(s) for s in self.size)))
-        self.voxel = 2.0 / self.size.max()
+        voxels = tuple(int(s) for s in self.size)
+        self.extent = np.array(box_extents(voxels, spacing))
+        self.voxel = voxel_extent(voxels, spacing)  # world size of a voxel's shortest side
         self.sample_range, self.shadow_offset, self.level = sample_range, shadow_offset, float(iso)
 
     def field(self, t: np.ndarray) -> np.ndarray:
@@ -39,12 +41,13 @@ class ScalarScene(Scene):
 def render(values: np.ndarray, transfer: TransferFunction, camera: OrbitCamera, size: tuple[int, int], mode: str,
            steps: float, iso: float = 0.0, mip_attenuation: float = 0.05, background=(0.0, 0.0, 0.0),
            lights=rm.LIGHTS, shadows: bool = True, shadow_steps: int = 20, sample_range: float = 1.0,
-           shadow_offset: float = rm.SHADOW_OFFSET) -> np.ndarray:
-    """The image (height, width, 3), floats 0..1, top row first, of `values` (d, h, w) in scalar mode `mode`."""
+           shadow_offset: float = rm.SHADOW_OFFSET, spacing: Spacing = DEFAULT_SPACING) -> np.ndarray:
+    """The image (height, width, 3), floats 0..1, top row first, of `values` (d, h, w) in scalar mode `mode`, its
+    voxels `spacing` (x, y, z) apart."""
     if mode not in SCALAR_MODES[1:]:
         raise ValueError(f"no scalar reference for mode {mode!r}")
     w, h = size
-    scene = ScalarScene(values, iso, sample_range, shadow_offset)
+    scene = ScalarScene(values, iso, sample_range, shadow_offset, spacing)
     eye, dirs = camera_rays(camera, size)
     background = np.asarray(background, dtype=np.float64)
     out = np.tile(background, (len(dirs), 1))
@@ -76,7 +79,8 @@ def _window_t(transfer: TransferFunction, v: np.ndarray) -> np.ndarray:
 
 
 def _voxels_a_step(scene: ScalarScene, a: np.ndarray, b: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    return np.linalg.norm((b - a) * scene.size, axis=-1) / valid.sum(-1)
+    """A step's world length in voxels' shortest sides."""
+    return np.linalg.norm((b - a) * 2.0 * scene.extent, axis=-1) / (valid.sum(-1) * scene.voxel)
 
 
 def _projection(scene, transfer, mode: str, a, b, valid, v, attenuation: float) -> np.ndarray:
