@@ -51,6 +51,9 @@ def parser() -> argparse.ArgumentParser:
                    help="console command to run before drawing (repeatable, in order)")
     r.add_argument("--size", type=_size, default=(640, 480), metavar="WxH")
     r.add_argument("--out", required=True, metavar="PNG")
+    r.add_argument("--overlays", action="store_true",
+                   help="draw the editor's marks over the scene too (the volume's slice plane, the 2D light icons "
+                        "and hull outlines, the 3D lights' markers and gizmo); without it, the scene alone")
     b = sub.add_parser("bench", help=VERBS["bench"])
     b.add_argument("technique", choices=sorted([*TECHNIQUES, "frames"]),
                    help="a technique's methods against its reference; frames: each workspace's interactive and still "
@@ -116,7 +119,7 @@ def render(args) -> int:
         renderer = WorkspaceRenderer(ctx)
         target = OffscreenTarget(ctx, args.size)
         for _ in range(MAX_SETTLING_FRAMES):  # a still scene: let temporal histories fill
-            renderer.render(target.fbo, editor.current, editor.render_settings())
+            renderer.render(target.fbo, editor.current, editor.render_settings(), overlays=args.overlays)
             if not renderer.settling():
                 break
         write_png(args.out, target.read())

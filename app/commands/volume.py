@@ -22,6 +22,7 @@ from app.model.volume import voxels as voxels_model
 from app.model.volume.painting import MAX_COORD
 from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume.samples import SAMPLES, make
+from app.model.volume.scalar_modes import ISO_MODE, MIP_ATTENUATION, SCALAR_DEFAULT, SCALAR_MODES
 from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
                                       default_window, value_range)
 from app.model.volume.voxels import AXES, DEFAULT_SPACING, MAX_SIDE, Spacing, VolumeError, check_spacing, transparent
@@ -96,6 +97,14 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
     reg.add_cvar(Cvar("fill_tolerance", int, 0, "The painter's fill takes in voxels whose every channel is within "
                       "this of the clicked one's (0: one exact colour)", min=0, max=255, archive=True))
+    mode = Cvar("r_scalarMode", str, "colour", "How a scalar volume is drawn: " + ", ".join(SCALAR_MODES) + " (colour: "
+                "the F-modes, on the window's colours); a scalar volume opens in " + SCALAR_DEFAULT,
+                choices=SCALAR_MODES)
+    mode.on_change.append(partial(_scalar_mode_changed, ctx))
+    reg.add_cvar(mode)
+    reg.add_cvar(Cvar("r_mipAttenuation", float, MIP_ATTENUATION, "attenuated_mip: how fast the values behind a "
+                      "bright one fade, per voxel of window-high value passed (vispy's attenuation)", min=0.0,
+                      max=10.0, archive=True))
     console.batch_listeners.append(ScriptSteps(state))
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
     # scalar volume); an autosave of a scalar volume keeps its window in a .nrrd; File > New makes an empty volume
@@ -137,6 +146,10 @@ def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: Transfe
         volume.replace_scalars(data, transfer, name=step, copy=False, spacing=spacing)
     else:
         volume.replace(data, step, spacing)
+    state.view.iso = None  # the new values' window middle
+    mode = ctx.console.registry.cvars.get("r_scalarMode")  # a bare context (a command run alone) has no cvars
+    if mode is not None:
+        mode.set(SCALAR_DEFAULT if volume.voxels.scalars is not None else "colour", trusted=ctx.console.trusted)
     if loaded:
         state.middle_slice()
     else:
@@ -149,7 +162,8 @@ def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: Transfe
         chosen = ("kept in the file" if transfer is not None else
                   "percentiles {:g}..{:g} of the values above the minimum".format(*PERCENTILES))
         ctx.console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} ({chosen}), "
-                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it")
+                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it; drawn as "
+                          f"{SCALAR_DEFAULT} (r_scalarMode; vol.iso VALUE draws a surface)")
 
 
 def _edit(ctx: Ctx, change, *args, **kwargs) -> None:
@@ -572,6 +586,29 @@ def spacing(ctx: Ctx, sides: list[float] | None = None) -> None:
         ctx.state.volume.set_spacing(chosen)
 
 
+def _scalar_mode_changed(ctx: Ctx, cvar: Cvar) -> None:
+    if cvar.value != "colour" and ctx.state.volume.voxels.scalars is None:
+        ctx.console.print(f"r_scalarMode {cvar.value}: this volume has no scalars, so the F-modes draw its colours "
+                          "(load a 16-bit or float file)")
+
+
+@COMMANDS.command("vol.iso", "[value:float]", "Show or set a scalar volume's iso value (data units) and draw the "
+                  "surface where the values first exceed it (r_scalarMode iso; lit as F5)", allow=SCRIPTS)
+def iso(ctx: Ctx, value: float | None = None) -> None:
+    scalars = ctx.state.volume.voxels.scalars
+    if value is None:
+        chosen = "set" if ctx.state.view.iso is not None else "the window's middle"
+        of = (f"of {scalars.values.dtype} scalars {_span(*value_range(scalars.values))}" if scalars is not None
+              else "(this volume has no scalars)")
+        ctx.console.print(f"iso {ctx.state.iso_value():g} ({chosen}) {of}")
+        return
+    ctx.state.view.iso = value
+    ctx.console.registry.cvars["r_scalarMode"].set(ISO_MODE, trusted=ctx.console.trusted)  # says so without scalars
+    if scalars is not None and not value < value_range(scalars.values)[1]:
+        ctx.console.print(f"no value exceeds {value:g} (the greatest is {value_range(scalars.values)[1]:g}): "
+                          "there is no surface to draw")
+
+
 @COMMANDS.check("vol.background")
 def background_rgba(ctx: Ctx, r: int, g: int, b: int) -> tuple[int, int, int, int]:
     return _rgba(r, g, b, 255)
@@ -587,4 +624,6 @@ def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:
     cvars, view = console.registry.cvars, state.view
     return TraceSettings(mode=view.mode, steps=cvars["cl_steps"].value, shadow_steps=cvars["cl_shadowSteps"].value,
                          sample_range=cvars["cl_sampleRange"].value, distance_scale=cvars["cl_distanceScale"].value,
-                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]))
+                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]),
+                         scalar_mode=cvars["r_scalarMode"].value, iso=state.iso_value(),
+                         mip_attenuation=cvars["r_mipAttenuation"].value)

@@ -27,6 +27,7 @@ class Lights3DRenderSettings:
     bias: float = 0.0002
     cascades: int = 3        # a directional light's maps, each over a slice of the view's depths: 1..MAX_CASCADES
     debug: str = "none"      # DEBUG_VIEWS
+    overlays: bool = True    # the editor's marks: light markers, the selection and its gizmo (not in a render)
 
     def __post_init__(self) -> None:
         if not MIN_MAP_SIZE <= self.map_size <= MAX_MAP_SIZE:

@@ -56,6 +56,12 @@ class TransferFunction:
         """(256, 4) uint8: entry i is the colour and alpha of t = i / 255."""
         return _table(self.colormap)
 
+    def opacity(self) -> tuple[tuple[float, float], ...]:
+        """The opacity curve the translucent mode composites with (app/model/volume/scalar_modes.py): (value in
+        data units, opacity per voxel of ray) points, linear between them, constant beyond the ends. A ramp over
+        the window, 0 at low to 1 at high, until the transfer-function editor gives a curve of its own."""
+        return (self.low, 0.0), (self.high, 1.0)
+
 
 def check_window(low: float, high: float) -> tuple[float, float]:
     """(low, high) as floats, if they make a window; else ScalarError."""

@@ -28,11 +28,13 @@ class VolumeView:
     stereo: bool = False          # key t: red from the left eye, green and blue from the right
     magnify: bool = False         # key x: twice the magnification
     wireframe: bool = False       # key f: the box's edges
+    iso: float | None = None      # a scalar volume's iso value (vol.iso, data units); None: the window's middle
 
     def key(self) -> tuple:
         c = self.camera
-        return (c.yaw, c.pitch, c.distance, self.background, self.axis, self.index, self.highlight, self.brush,
-                self.mode, self.shadows, self.light, self.stereo, self.magnify, self.wireframe)
+        key = (c.yaw, c.pitch, c.distance, self.background, self.axis, self.index, self.highlight, self.brush,
+               self.mode, self.shadows, self.light, self.stereo, self.magnify, self.wireframe)
+        return key if self.iso is None else (*key, self.iso)  # unset, the digests recorded before it stay
 
 
 def box_extents(size: tuple[int, int, int], spacing: Spacing = DEFAULT_SPACING) -> tuple[float, float, float]:

@@ -15,6 +15,7 @@ from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QHBoxLayout, 
 
 from app.model.volume.voxels import AXES
 from app.views.keys import key_name
+from app.views.volume.scalar_mode_row import ScalarModeRow
 from app.views.volume.transfer_panel import TransferPanel
 
 NEIGHBOUR_OPACITY = 0.22  # the faint neighbouring slices under transparent voxels
@@ -262,6 +263,8 @@ class SlicePainter(QWidget):
         layout.addLayout(tool_row)
         layout.addWidget(self.canvas, 1)
         self.transfer = TransferPanel(state, run)  # a scalar volume's window and colour map
+        self.modes = ScalarModeRow(state, self.editor.console.registry.cvars, run)  # and how it is drawn
+        self.transfer.layout().addWidget(self.modes)
         layout.addWidget(self.transfer)
         self.axis.currentTextChanged.connect(lambda a: self._set_slice(a, self.state.view.index))
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
@@ -279,6 +282,7 @@ class SlicePainter(QWidget):
     def sync(self) -> None:
         """Show the model's values without sending them back as commands."""
         self.transfer.sync()
+        self.modes.sync()
         view, vol = self.state.view, self.state.volume.voxels
         cvars = self.editor.console.registry.cvars
         for widget, setter, value in ((self.axis, "setCurrentText", view.axis),
