@@ -213,7 +213,8 @@ def test_light_without_extinction_is_phase_powder_and_ambient(tex, multiscatter)
     powder = 1 + (1 - np.exp(-2 * rho) - 1) * (0.5 - 0.5 * cos)
     h = np.array([0.25, 0.75])[:, None]
     ambient = np.array(fr.ambient_base) * (1 - h) + np.array(fr.ambient_top) * h
-    np.testing.assert_allclose(s, np.array(fr.sun_light) * (energy * powder)[:, None] + ambient, rtol=1e-12)
+    sun = np.array(fr.sun_light) * (1 - h) + np.array(fr.sun_light_top) * h   # the layer's base .. top
+    np.testing.assert_allclose(s, sun * (energy * powder)[:, None] + ambient, rtol=1e-12)
     short = clouds_medium.light_lookups(fr, tex, p, rho, cos)[1]
     long = clouds_medium.light_lookups(cm.frame(CloudParams(light_samples=30), CloudView()), tex, p, rho, cos)[1]
     assert np.all(short >= 6) and np.all(long - short >= 24)           # 5 cone + 1 far, or + 25 long

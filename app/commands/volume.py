@@ -17,16 +17,18 @@ from app.console.registry import SCRIPTS, CommandError, Cvar
 from app.commands import volume_labels
 from app.commands.volume_args import check_axis as _axis, check_brush, check_rgba as _rgba, round_brush
 from app.commands.volume_args import check_tolerance as _tolerance, stroke_points as _points
-from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
-                                   write_volume)
+from app.io.volume_formats import (READ_ONLY, SCALAR_SUFFIXES, SPACING_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES,
+                                   FormatError, is_volume_source, read_dicom_files, read_volume_file,
+                                   suffix_of, write_volume)
 from app.model.camera3d import OrbitCamera
 from app.model.volume import voxels as voxels_model
 from app.model.volume.labels import Labels
 from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume.samples import SAMPLES, make
+from app.model.volume.scalar_modes import ISO_MODE, MIP_ATTENUATION, SCALAR_DEFAULT, SCALAR_MODES
 from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
                                       default_window, value_range)
-from app.model.volume.voxels import AXES, transparent
+from app.model.volume.voxels import AXES, DEFAULT_SPACING, Spacing, VolumeError, check_spacing, transparent
 from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -50,6 +52,10 @@ def _span(low: float, high: float) -> str:
     return f"{low:g}..{high:g}"
 
 
+def _spacing_text(spacing: Spacing) -> str:
+    return " ".join(f"{s:g}" for s in spacing)
+
+
 def _switched(current: bool, on: int | None) -> bool:
     """A flag command's new value: toggled without an argument."""
     return (not current) if on is None else bool(on)
@@ -68,13 +74,22 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     reg.add_cvar(Cvar("fill_tolerance", int, 0, "The painter's fill takes in voxels whose every channel is within "
                       "this of the clicked one's (0: one exact colour)", min=0, max=255, archive=True))
     volume_labels.add_cvars(reg)
+    mode = Cvar("r_scalarMode", str, "colour", "How a scalar volume is drawn: " + ", ".join(SCALAR_MODES) + " (colour: "
+                "the F-modes, on the window's colours); a scalar volume opens in " + SCALAR_DEFAULT,
+                choices=SCALAR_MODES)
+    mode.on_change.append(partial(_scalar_mode_changed, ctx))
+    reg.add_cvar(mode)
+    reg.add_cvar(Cvar("r_mipAttenuation", float, MIP_ATTENUATION, "attenuated_mip: how fast the values behind a "
+                      "bright one fade, per voxel of window-high value passed (vispy's attenuation)", min=0.0,
+                      max=10.0, archive=True))
     console.batch_listeners.append(ScriptSteps(state))
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
     # scalar volume); an autosave of a scalar volume keeps its window in a .nrrd; File > New makes an empty volume
     # of the same size
     state.files = SceneFiles(partial(load, ctx), partial(write, ctx), (".r3", *(s for s in SUPPORTED if s != ".r3")),
                              new=partial(new_same_size, ctx), replacing=("new", "sample"), verbs=("load", "save"),
-                             keeping=partial(kept_suffix, ctx))
+                             keeping=partial(kept_suffix, ctx), read_only=READ_ONLY,
+                             claims=partial(is_volume_source, max_bytes=voxels_model.MAX_BYTES))
     COMMANDS.register(console.registry, ctx, checks)
     volume_labels.COMMANDS.register(console.registry, ctx, checks)
 
@@ -98,26 +113,37 @@ class ScriptSteps:
 
 
 def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: TransferFunction | None = None,
-             loaded: bool = True, labels: Labels | None = None) -> None:
+             loaded: bool = True, spacing: Spacing | None = None, notes: tuple[str, ...] = (),
+             labels: Labels | None = None) -> None:
     """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
-    the default window, with `labels` over them (its labels file's), as the undo step `step`. `data` is the
-    command's own (a fresh array) to hand over. A loaded volume (a file, a sample) opens the painter on its middle
-    slice; a new one keeps the slice."""
+    the default window, with `labels` over them (its labels file's), as the undo step `step`, its voxels
+    `spacing` apart (1 1 1 if None). `data` is the command's own (a fresh array) to hand over. A loaded volume
+    (a file, a sample) opens the painter on its middle slice; a new one keeps the slice. `notes`: what the reader
+    says of the file."""
     state, volume = ctx.state, ctx.state.volume
+    spacing = spacing or DEFAULT_SPACING
     if data.ndim == 3:
-        volume.replace_scalars(data, transfer, name=step, copy=False, labels=labels)
+        volume.replace_scalars(data, transfer, name=step, copy=False, spacing=spacing, labels=labels)
     else:
-        volume.replace(data, step)
+        volume.replace(data, step, spacing)
+    state.view.iso = None  # the new values' window middle
+    mode = ctx.console.registry.cvars.get("r_scalarMode")  # a bare context (a command run alone) has no cvars
+    if mode is not None:
+        mode.set(SCALAR_DEFAULT if volume.voxels.scalars is not None else "colour", trusted=ctx.console.trusted)
     if loaded:
         state.middle_slice()
     else:
         state.clamp_slice()
-    ctx.console.print(f"{what}: {'x'.join(map(str, volume.voxels.size))}")
+    shown = "" if spacing == DEFAULT_SPACING else f", spacing {_spacing_text(spacing)}"
+    ctx.console.print(f"{what}: {'x'.join(map(str, volume.voxels.size))}{shown}")
+    for note in notes:
+        ctx.console.print(f"  {note}")
     if (scalars := volume.voxels.scalars) is not None:
         chosen = ("kept in the file" if transfer is not None else
                   "percentiles {:g}..{:g} of the values above the minimum".format(*PERCENTILES))
         ctx.console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} ({chosen}), "
-                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it")
+                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it; drawn as "
+                          f"{SCALAR_DEFAULT} (r_scalarMode; vol.iso VALUE draws a surface)")
 
 
 def volume_files(ctx: Ctx, prefix: str) -> list[str]:
@@ -134,17 +160,31 @@ def new_same_size(ctx: Ctx) -> None:
     new(ctx, *ctx.state.volume.voxels.size)
 
 
-@COMMANDS.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
-                  "float ones through a window)", completer=volume_files, allow=SCRIPTS)
-def load(ctx: Ctx, path: str) -> str:
+@COMMANDS.command("load", "path [more...]", "Open a 3D raster image (.r3, name_%i.png series, .npy, .npz, .tif, "
+                  ".nrrd, .nii, .nii.gz, DICOM: a series' folder or files; 16-bit and float ones through a window); "
+                  "`load FILE.npz NAME` opens one of the file's arrays, `load FILE FILE...` the files of one DICOM "
+                  "series", completer=volume_files, allow=SCRIPTS)
+def load(ctx: Ctx, path: str, more: list[str] | None = None) -> str:
+    more = more or []
     found = files.find(path, ctx.console) if "%" not in path else None  # a series names its slices
     source = found or files.readable(ctx.console, path)
-    try:
-        read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES)  # the model's limit, before reading
+    if source.is_dir():  # a DICOM series: its files lie below the folder, which a script may read only in its places
+        files.readable(ctx.console, str(source / "*"))
+    npz = suffix_of(source) == ".npz"
+    if npz and len(more) > 1:
+        raise CommandError(f"an .npz file's array is chosen by one name: load {path} NAME")
+    try:  # the model's limit, before reading
+        if more and not npz:
+            others = [files.readable(ctx.console, name) for name in more]
+            read = read_dicom_files([source, *others], max_bytes=voxels_model.MAX_BYTES)
+        else:
+            read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES, array=more[0] if more else None)
     except FormatError as exc:
         raise CommandError(str(exc)) from None
     labels = volume_labels.beside(ctx, source, read.data.shape) if read.data.ndim == 3 else None
-    _replace(ctx, read.data, f"loaded {source}", "Load Volume", read.transfer, labels=labels)
+    what = f"loaded {source}" + (f" and {len(more)} more" if more and not npz else "")
+    _replace(ctx, read.data, what, "Load Volume", read.transfer, spacing=read.spacing, notes=read.notes,
+             labels=labels)
     if labels is not None:
         volume_labels.say_loaded(ctx, source)
     return str(source)
@@ -164,10 +204,10 @@ def write(ctx: Ctx, path: str) -> None:
     voxels = ctx.state.volume.voxels
     try:
         if _as_scalars(ctx, path):
-            write_volume(path, voxels.scalars.values, voxels.scalars.transfer)
+            write_volume(path, voxels.scalars.values, voxels.scalars.transfer, spacing=voxels.spacing)
             volume_labels.write_beside(voxels.labels, path)
         else:
-            write_volume(path, voxels.data)
+            write_volume(path, voxels.data, spacing=voxels.spacing)
     except FormatError as exc:
         raise CommandError(str(exc)) from None
 
@@ -182,7 +222,11 @@ def save(ctx: Ctx, path: str) -> str:
         write(ctx, target)
     except OSError as exc:
         raise CommandError(str(exc)) from None
-    scalars, say = ctx.state.volume.voxels.scalars, ctx.console.print
+    voxels, say = ctx.state.volume.voxels, ctx.console.print
+    scalars = voxels.scalars
+    if voxels.spacing != DEFAULT_SPACING and suffix_of(target) not in SPACING_SUFFIXES:
+        say(f"the spacing {_spacing_text(voxels.spacing)} is not kept in {target.name} "
+            f"({', '.join(SPACING_SUFFIXES)} keeps it)")
     if scalars is None:
         say(f"saved {target}")
     elif target.suffix.lower() in WINDOW_SUFFIXES:
@@ -489,6 +533,56 @@ def colormap(ctx: Ctx, name: str) -> None:
     volume.set_transfer(replaced(scalars.transfer, colormap=name))  # the model checks the name
 
 
+@COMMANDS.check("vol.spacing")
+def spacing_args(ctx: Ctx, sides: list[float] | None = None) -> Spacing | None:
+    if not sides:
+        return None
+    if len(sides) != 3:
+        raise CommandError("give the spacing as three sides, sx sy sz, or none to show it")
+    try:
+        return check_spacing(*sides)
+    except VolumeError as exc:
+        raise CommandError(str(exc)) from None
+
+
+@COMMANDS.command("vol.spacing", "[sides:float...]", "Show or set the voxels' spacing, sx sy sz (x, y, z; in the "
+                  "file's unit, mm for scans): the box and the painter take the volume's physical shape; files "
+                  "give it where they state it", allow=SCRIPTS)
+def spacing(ctx: Ctx, sides: list[float] | None = None) -> None:
+    chosen = spacing_args(ctx, sides)
+    voxels = ctx.state.volume.voxels
+    if chosen is None:
+        w, h, d = voxels.size
+        sx, sy, sz = voxels.spacing
+        ctx.console.print(f"spacing {_spacing_text(voxels.spacing)}: the volume is {w * sx:g} x {h * sy:g} x "
+                          f"{d * sz:g}")
+    else:
+        ctx.state.volume.set_spacing(chosen)
+
+
+def _scalar_mode_changed(ctx: Ctx, cvar: Cvar) -> None:
+    if cvar.value != "colour" and ctx.state.volume.voxels.scalars is None:
+        ctx.console.print(f"r_scalarMode {cvar.value}: this volume has no scalars, so the F-modes draw its colours "
+                          "(load a 16-bit or float file)")
+
+
+@COMMANDS.command("vol.iso", "[value:float]", "Show or set a scalar volume's iso value (data units) and draw the "
+                  "surface where the values first exceed it (r_scalarMode iso; lit as F5)", allow=SCRIPTS)
+def iso(ctx: Ctx, value: float | None = None) -> None:
+    scalars = ctx.state.volume.voxels.scalars
+    if value is None:
+        chosen = "set" if ctx.state.view.iso is not None else "the window's middle"
+        of = (f"of {scalars.values.dtype} scalars {_span(*value_range(scalars.values))}" if scalars is not None
+              else "(this volume has no scalars)")
+        ctx.console.print(f"iso {ctx.state.iso_value():g} ({chosen}) {of}")
+        return
+    ctx.state.view.iso = value
+    ctx.console.registry.cvars["r_scalarMode"].set(ISO_MODE, trusted=ctx.console.trusted)  # says so without scalars
+    if scalars is not None and not value < value_range(scalars.values)[1]:
+        ctx.console.print(f"no value exceeds {value:g} (the greatest is {value_range(scalars.values)[1]:g}): "
+                          "there is no surface to draw")
+
+
 @COMMANDS.check("vol.background")
 def background_rgba(ctx: Ctx, r: int, g: int, b: int) -> tuple[int, int, int, int]:
     return _rgba(r, g, b, 255)
@@ -505,4 +599,6 @@ def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:
     return TraceSettings(mode=view.mode, steps=cvars["cl_steps"].value, shadow_steps=cvars["cl_shadowSteps"].value,
                          sample_range=cvars["cl_sampleRange"].value, distance_scale=cvars["cl_distanceScale"].value,
                          shadows=view.shadows, lights=(view.light, *LIGHTS[1:]),
+                         scalar_mode=cvars["r_scalarMode"].value, iso=state.iso_value(),
+                         mip_attenuation=cvars["r_mipAttenuation"].value,
                          label_opacity=cvars[volume_labels.OPACITY].value)

@@ -2,7 +2,7 @@
 `ct.seg.nrrd`), one label a voxel (0 clear). Each label it holds is a segment in Slicer's header fields
 (Segment<i>_LabelValue, _Color, _Name, _ID, _Layer, _Extent, and the Segmentation_* fields), as Slicer writes its
 own; reading takes the colours those fields give (Slicer's files included). Read with the bounds of
-app/io/volume_formats.py's NRRD reader; written atomically."""
+app/io/volume_formats/nrrd.py's reader; written atomically."""
 from __future__ import annotations
 
 import io

@@ -172,8 +172,9 @@ def light_lookups(frame: Frame, textures: CloudTextures, p, rho, cos) -> tuple[n
     else:                                                          # the seed's double Beer
         energy = 4 * math.pi * phase(frame, cos, 1.0) * np.maximum(np.exp(-tau), BEER_FLOOR * np.exp(-tau * BEER_SOFT))
     powder = _lerp(1.0, 1 - np.exp(-POWDER * rho), 0.5 - 0.5 * cos)
-    ambient = _lerp(np.array(frame.ambient_base), np.array(frame.ambient_top), height(p)[:, None])
-    s = np.array(frame.sun_light) * (energy * powder)[:, None] + ambient
+    h = height(p)[:, None]
+    sun = _lerp(np.array(frame.sun_light), np.array(frame.sun_light_top), h)
+    s = sun * (energy * powder)[:, None] + _lerp(np.array(frame.ambient_base), np.array(frame.ambient_top), h)
     return s.reshape(shape + (3,)), lookups.reshape(shape)
 
 

@@ -21,7 +21,7 @@ GROUPS = (
     ("Wind", ("wind_speed", "wind_dir", "weather_wind_speed", "weather_wind_dir", "high_wind_speed", "high_wind_dir",
               "time_scale")),
 )
-TOGGLES = ("shape_noise", "detail_noise", "curl_noise", "multiscatter", "ground_shadows")
+TOGGLES = ("shape_noise", "detail_noise", "curl_noise", "multiscatter", "ground_shadows", "physical_sky")
 
 
 class ValueRow(QWidget):

@@ -8,7 +8,7 @@ from PySide6.QtWidgets import (QAbstractSpinBox, QComboBox, QFormLayout, QGroupB
 
 from app.model.lights3d.scene import (LIGHT_KINDS, MAX_COORD, MAX_FALLOFF, MAX_SHININESS, MAX_SIZE, MAX_SPECULAR,
                                       OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES)
-from app.model.lights3d.render_settings import MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS
+from app.model.lights3d.render_settings import MAX_BIAS, MAX_CASCADES, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS
 from app.views.form_widgets import ColorButton, rgb_words, spin
 from app.views.lights3d_tool import REMOVE_VERBS
 
@@ -130,8 +130,11 @@ class Lights3DPanel(QWidget):
         self.pcf.currentTextChanged.connect(lambda n: self._send(f"r_shadowPCF {n}"))
         self.bias = spin(0, MAX_BIAS, 0.0001, 4)
         self.bias.valueChanged.connect(lambda v: self._send(f"r_shadowBias {v!r}"))
+        self.cascades = _combo(str(n) for n in range(1, MAX_CASCADES + 1))
+        self.cascades.currentTextChanged.connect(lambda n: self._send(f"r_shadowCascades {n}"))
         for label, widget in (("Ambient", self.ambient), ("Shininess", self.shininess), ("Specular", self.specular),
-                              ("Map size", self.map_size), ("PCF taps", self.pcf), ("Map bias", self.bias)):
+                              ("Map size", self.map_size), ("PCF taps", self.pcf), ("Map bias", self.bias),
+                              ("Sun cascades", self.cascades)):
             sf.addRow(label, widget)
         return lighting
 
@@ -194,6 +197,7 @@ class Lights3DPanel(QWidget):
             self.map_size.setCurrentText(str(self.cvars["r_shadowMapSize"].value))
             self.pcf.setCurrentText(str(self.cvars["r_shadowPCF"].value))
             self.bias.setValue(self.cvars["r_shadowBias"].value)
+            self.cascades.setCurrentText(str(self.cvars["r_shadowCascades"].value))
         finally:
             self._syncing = False
 

@@ -19,11 +19,12 @@ from dataclasses import asdict, replace
 import moderngl
 import numpy as np
 
+from app.gl.clouds.atmosphere import AtmosphereTables
 from app.gl.clouds.tone_map import ToneMap
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
-from app.model.clouds.scene import CloudRenderSettings, Frame
+from app.model.clouds.scene import ATMOSPHERE, CloudRenderSettings, Frame
 
 # The order in which reprojection traces the pixels of a d x d block, one a frame (index = x + d y), each
 # frame's pixel far from the last ones: Bayer's for 2 and Guerrilla's 4x4, a dispersed one for 3.
@@ -113,6 +114,7 @@ class CloudRenderer:
     def __init__(self, ctx: moderngl.Context, shaders) -> None:
         self.ctx, self.shaders = ctx, shaders
         self.textures: CloudTexturesGL | None = None
+        self.atmosphere = AtmosphereTables(ctx, shaders)
         self.units = TextureUnits()  # every pass's samplers: the noise stays bound while each pass binds its own
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._targets: dict[str, Target] = {}
@@ -161,8 +163,8 @@ class CloudRenderer:
         size = fbo.size
         bsize = buffer_size(size, settings.downsample)
         aspect = size[0] / max(size[1], 1)
-        values = uniforms(frame, settings, aspect, self.frame_index)
-        values.update(self.textures.use(self.units))
+        self.atmosphere.update(ATMOSPHERE, frame.camera[1], frame.sun_dir[1])  # first: its passes bind their own units
+        values = self._scene_values(frame, settings, aspect)
         # The histories hold while only the clock moves (the winds, a weather blend); reprojection's also
         # through a turn of the camera (a direction's colour does not depend on where the camera looks);
         # anything else restarts them (docs/clouds.md, "Optimisations").
@@ -190,6 +192,13 @@ class CloudRenderer:
             self.tone_map.apply(self.last_hdr, fbo, settings.tone, restart=history == 0)
         self._key, self._basis, self._clock = key, basis, clock
         self.frame_index += 1
+
+    def _scene_values(self, frame: Frame, settings: CloudRenderSettings, aspect: float) -> dict:
+        """The uniforms every pass shares, the textures bound: the frame's, the noise's and the atmosphere's."""
+        values = uniforms(frame, settings, aspect, self.frame_index)
+        values.update(self.textures.use(self.units), **self.atmosphere.uniforms(ATMOSPHERE),
+                      **self.units.bind(u_atmosphere=self.atmosphere.atlas))
+        return values
 
     def _trace(self, size, bsize, settings, values, history: int) -> moderngl.Texture:
         if not reprojects(settings):
@@ -262,8 +271,7 @@ class CloudRenderer:
         counts = self.last_lookups.textures[1]
         march = float(np.frombuffer(counts.read(), dtype="f4").reshape(-1, counts.components)[:, 0].sum())
         target = self._target("lookups", size, (1,))
-        values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
-        values.update(self.textures.use(self.units))
+        values = self._scene_values(frame, settings, size[0] / max(size[1], 1))
         self._draw("clouds_composite", target.fbo, values,
                    **self.units.bind(u_clouds=self.last_clouds, u_lookups=counts), u_size=tuple(map(float, size)),
                    u_debug=2)

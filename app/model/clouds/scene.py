@@ -10,6 +10,7 @@ import math
 from typing import TYPE_CHECKING, get_type_hints
 from dataclasses import dataclass, field, fields, replace
 
+from app.model.clouds.atmosphere import Atmosphere, physical_light
 from app.model.clouds.exposure import ToneSettings
 
 if TYPE_CHECKING:
@@ -42,6 +43,9 @@ SUN_LOW_COLOR = (1.0, 0.31, 0.0)
 SKY_ZENITH = (0.24, 0.45, 0.85)
 SKY_HORIZON = (0.70, 0.80, 0.95)
 GROUND_ALBEDO = (0.20, 0.21, 0.17)
+# The physical sky's air: Earth's (Hillaire's preset, 100 km deep) over this planet (docs/clouds.md, "The sky
+# and the atmosphere", says what the small planet changes).
+ATMOSPHERE = Atmosphere(bottom=PLANET_RADIUS, top=PLANET_RADIUS + 100_000.0, ground_albedo=GROUND_ALBEDO)
 
 
 @dataclass(frozen=True)
@@ -55,9 +59,10 @@ class Param:
     choices: tuple = ()
 
 
-def _param(default: float, lo: float, hi: float, text: str, choices: tuple = ()):
-    """A CloudParams field that carries its range and help text, so each parameter is written once."""
-    return field(default=default, metadata={"lo": lo, "hi": hi, "text": text, "choices": choices})
+def _param(default: float, lo: float, hi: float, text: str, choices: tuple = (), added: bool = False):
+    """A CloudParams field that carries its range and help text, so each parameter is written once. `added`: a
+    parameter newer than recorded demos, which the digest leaves out while it keeps its default."""
+    return field(default=default, metadata={"lo": lo, "hi": hi, "text": text, "choices": choices, "added": added})
 
 
 @dataclass(frozen=True)
@@ -98,6 +103,14 @@ class CloudParams:
                                 "light march samples: 6 (5 cone + 1 far) or 30 (clouds shadow each other)", (6, 30))
     multiscatter: int = _param(1, 0, 1, "multiple scattering by octaves (0: the seed's double Beer)")
     ground_shadows: int = _param(1, 0, 1, "cloud shadows on the ground")
+    physical_sky: int = _param(1, 0, 1, "sky, sun and ambient light from a physical atmosphere (Hillaire 2020); "
+                                        "0: the seed's colours from the sun's height", added=True)
+
+    def __repr__(self) -> str:
+        """The state digests hash this: an added parameter shows only when set, so a demo recorded before it
+        existed replays to the digest it had."""
+        shown = (f for f in fields(self) if not (f.metadata["added"] and getattr(self, f.name) == f.default))
+        return f"CloudParams({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in shown)})"
 
     def with_value(self, name: str, value: float) -> "CloudParams":
         """A copy with `name` set, or ParamError saying what is allowed (nothing changes)."""
@@ -197,6 +210,12 @@ class Frame:
     ambient_top: tuple
     sky_zenith: tuple
     sky_horizon: tuple
+    physical_sky: int         # 1: the sky, the light on the clouds and the ground, and the haze from the air
+    sun_illuminance: float    # the physical sky's radiance per unit of its tables
+    direct: float             # the sun's light on the ground, times (the physical sky's)
+    sun_light_top: tuple      # the sun's light at the layer's top (sun_light: at its base)
+    cirrus_light: tuple       # the sun's light at the cirrus (the physical sky's)
+    cirrus_ambient: tuple     # the sky's light there
     g_forward: float
     g_back: float             # negative: the back lobe
     extinction: float         # sigma_t per metre per unit cloud sample
@@ -249,14 +268,21 @@ def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: f
     hx, hz = _wind(params.high_wind_speed, params.high_wind_dir)
     a = math.radians(params.wind_dir)
     sky = max(0.05, fade)
+    seed_sun = tuple(c * params.direct * fade for c in sun_color)
+    if params.physical_sky:
+        light = physical_light(ATMOSPHERE, sun[1], params.direct, params.ambient / PARAM["ambient"].default,
+                               (LAYER_BOTTOM, LAYER_TOP, CIRRUS_ALTITUDE))
+    else:
+        light = dict(sun_light=seed_sun, sun_light_top=seed_sun, cirrus_light=seed_sun,
+                     ambient_base=tuple(c * ambient for c in CLOUD_BASE_COLOR),
+                     ambient_top=tuple(c * ambient for c in CLOUD_TOP_COLOR),
+                     cirrus_ambient=tuple(c * ambient for c in CLOUD_TOP_COLOR), sun_illuminance=1.0)
     return Frame(
         camera=(0.0, view.altitude, 0.0), forward=f, right=r, up=u,
-        tan_half_fov=math.tan(math.radians(FOV_Y_DEG) / 2), sun_dir=sun,
-        sun_light=tuple(c * params.direct * fade for c in sun_color),
-        ambient_base=tuple(c * ambient for c in CLOUD_BASE_COLOR),
-        ambient_top=tuple(c * ambient for c in CLOUD_TOP_COLOR),
+        tan_half_fov=math.tan(math.radians(FOV_Y_DEG) / 2), sun_dir=sun, **light,
         sky_zenith=tuple(c * sky for c in SKY_ZENITH),
         sky_horizon=tuple(c * sky for c in _lerp3(sun_color, SKY_HORIZON, 0.5 + 0.5 * fade)),
+        physical_sky=params.physical_sky, direct=params.direct,
         g_forward=params.hg_forward, g_back=-params.hg_back * fade ** 3,
         extinction=EXTINCTION * params.density, shape_freq=noise, detail_freq=noise * params.detail_scale,
         curl_freq=noise * params.curl_scale, curl_amount=150.0 + params.curl_amount, weather_freq=weather,

@@ -1,6 +1,6 @@
 """A volume's undo history: steps that take its voxels back and forth (a changed sub-box of the colours or of a
-scan's labels, a quarter turn, a whole image swapped, a window, a label's colour), capped by count and bytes, and the
-preview of a stroke in progress, kept out of it."""
+scan's labels, a quarter turn, a whole image swapped, a window, a label's colour, a spacing), capped by count and
+bytes, and the preview of a stroke in progress, kept out of it."""
 from __future__ import annotations
 
 from collections import deque
@@ -10,7 +10,7 @@ import numpy as np
 
 from app.model.volume.labels import Labels
 from app.model.volume.scalars import Scalars, TransferFunction
-from app.model.volume.voxels import Box, Voxels
+from app.model.volume.voxels import DEFAULT_SPACING, Box, Spacing, Voxels
 
 UNDO_STEPS = 256
 UNDO_BYTES = 512 << 20
@@ -66,17 +66,29 @@ class Swap:
     serial: int = 0
     name: str = ""
     labels: Labels | None = None  # and its labels
+    spacing: Spacing = DEFAULT_SPACING  # and its spacing
 
     @classmethod
     def of(cls, voxels: Voxels, name: str) -> Swap:
         """The step that brings back what `voxels` show now."""
         data, scalars, labels = voxels.data, voxels.scalars, voxels.labels
         held = data.nbytes + (scalars.nbytes if scalars else 0) + (labels.nbytes if labels else 0)
-        return cls(data, scalars, held, name=name, labels=labels)
+        return cls(data, scalars, held, name=name, labels=labels, spacing=voxels.spacing)
 
     def apply(self, voxels: Voxels, undo: bool) -> None:
-        self.other, self.scalars = voxels.swap(self.other, self.scalars)
+        self.other, self.scalars, self.spacing = voxels.swap(self.other, self.scalars, self.spacing)
         voxels.labels, self.labels = self.labels, voxels.labels
+
+
+@dataclass
+class Respace:
+    spacing: Spacing  # the spacing not currently shown
+    nbytes: int = 0
+    serial: int = 0
+    name: str = "Set Spacing"
+
+    def apply(self, voxels: Voxels, undo: bool) -> None:
+        self.spacing = voxels.respace(self.spacing)
 
 
 @dataclass
@@ -121,7 +133,7 @@ class Group:
             inner.apply(voxels, undo)
 
 
-Step = Patch | Turn | Swap | Window | LabelColour | Group
+Step = Patch | Turn | Swap | Window | LabelColour | Respace | Group
 
 
 class VoxelHistory:

@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
-# The dtypes a scalar file may hold; uint8 grey files stay densities painted directly (app/io/volume_formats.py).
+# The dtypes a scalar file may hold; uint8 grey files stay densities painted directly (app/io/volume_formats/).
 SCALAR_TYPES = tuple(np.dtype(t) for t in ("int8", "uint16", "int16", "uint32", "int32", "float32", "float64"))
 CHUNK = 1 << 18           # voxels coloured at once: float64 temporaries of 2 MiB
 WINDOW_SAMPLE = 1 << 20   # voxels the default window's percentiles are taken from
@@ -55,6 +55,12 @@ class TransferFunction:
     def table(self) -> np.ndarray:
         """(256, 4) uint8: entry i is the colour and alpha of t = i / 255."""
         return _table(self.colormap)
+
+    def opacity(self) -> tuple[tuple[float, float], ...]:
+        """The opacity curve the translucent mode composites with (app/model/volume/scalar_modes.py): (value in
+        data units, opacity per voxel of ray) points, linear between them, constant beyond the ends. A ramp over
+        the window, 0 at low to 1 at high, until the transfer-function editor gives a curve of its own."""
+        return (self.low, 0.0), (self.high, 1.0)
 
 
 def check_window(low: float, high: float) -> tuple[float, float]:

@@ -1,14 +1,16 @@
 """A 3D RGBA raster being edited: its voxels, their undo history, their painting, and the edits of the whole
-image (a rotation, another image, a window, a label's colour), each one undo step."""
+image (a rotation, another image, a window, a label's colour, a spacing), each one undo step."""
 from __future__ import annotations
 
 import numpy as np
 
-from app.model.volume.history import UNDO_BYTES, UNDO_STEPS, LabelColour, Swap, Turn, VoxelHistory, Window
+from app.model.volume.history import (UNDO_BYTES, UNDO_STEPS, LabelColour, Respace, Swap, Turn, VoxelHistory,
+                                     Window)
 from app.model.volume.labels import LABEL_BYTES, Labels, check_label, check_rgb
 from app.model.volume.painting import Painting
 from app.model.volume.scalars import Scalars, TransferFunction, check_values, colour, default_window, own_values
-from app.model.volume.voxels import VolumeError, Voxels, check_axis, check_size, own_rgba, transparent, whole
+from app.model.volume.voxels import (DEFAULT_SPACING, Spacing, VolumeError, Voxels, check_axis, check_size,
+                                     check_spacing, own_rgba, transparent, whole)
 
 
 class Volume:
@@ -40,22 +42,25 @@ class Volume:
             self.voxels.turn(axis, turns)
             self.history.push(Turn(axis, turns))
 
-    def replace(self, data: np.ndarray, name: str = "Replace Volume") -> None:
+    def replace(self, data: np.ndarray, name: str = "Replace Volume", spacing: Spacing = DEFAULT_SPACING) -> None:
         """Swap in a whole new image (a loaded file) as one undo step called `name`."""
         self.history.clear_preview()
+        spacing = check_spacing(*spacing)
         new = own_rgba(data)
         self.history.push(Swap.of(self.voxels, name))
-        self.voxels.swap(new, None)
+        self.voxels.swap(new, None, spacing)
         self.voxels.labels = None  # an RGBA volume is painted in colours
 
     def replace_scalars(self, values: np.ndarray, transfer: TransferFunction | None = None,
-                        name: str = "Replace Volume", copy: bool = True, labels: Labels | None = None) -> None:
+                        name: str = "Replace Volume", copy: bool = True, spacing: Spacing = DEFAULT_SPACING,
+                        labels: Labels | None = None) -> None:
         """Swap in a scalar volume (a loaded 16-bit or float file) as one undo step called `name`, coloured through
         `transfer` (by default the window from the values' percentiles, grey), with `labels` painted over it (a
         labels file's, of the same size; by default none yet). The size, labels included, is checked before
         anything is allocated; the values are copied, unless `copy` is False: then the volume keeps `values`
         itself (made read-only), which its caller hands over (a reader's fresh array, not a second copy of it)."""
         self.history.clear_preview()
+        spacing = check_spacing(*spacing)
         d, h, w = check_values(values)
         check_size(w, h, d, values.itemsize + LABEL_BYTES)
         if labels is not None and labels.size != (w, h, d):
@@ -65,8 +70,17 @@ class Volume:
         data = np.empty(values.shape + (4,), np.uint8)
         colour(values, scalars.transfer, data)
         self.history.push(Swap.of(self.voxels, name))
-        self.voxels.swap(data, scalars)
+        self.voxels.swap(data, scalars, spacing)
         self.voxels.labels = labels or Labels((w, h, d))
+
+    def set_spacing(self, spacing: Spacing) -> bool:
+        """The voxels' sides (x, y, z) as one undo step; False if they are the same. The voxels stay as they are."""
+        self.history.clear_preview()
+        spacing = check_spacing(*spacing)
+        if spacing == self.voxels.spacing:
+            return False
+        self.history.push(Respace(self.voxels.respace(spacing)))
+        return True
 
     def set_transfer(self, transfer: TransferFunction) -> bool:
         """Colour the scalars through another window or colour map, as one undo step; False if it is the same."""

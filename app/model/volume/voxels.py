@@ -4,6 +4,7 @@ such as GPU uploads."""
 from __future__ import annotations
 
 import hashlib
+import math
 import operator
 import os
 from collections import deque
@@ -18,6 +19,10 @@ from app.model.volume.scalars import Scalars, TransferFunction, colour
 AXES = ("x", "y", "z")
 MAX_SIDE = 4096          # voxels a side; also the largest brush
 CHANGE_RECORDS = 4096    # consumers further behind than this many changes get the full box
+# A voxel's sides (x, y, z) in the file's length unit (mm for CT, MRI and NIfTI): the box has the physical shape.
+Spacing = tuple[float, float, float]
+DEFAULT_SPACING: Spacing = (1.0, 1.0, 1.0)
+MIN_SPACING, MAX_SPACING = 1e-6, 1e6  # a scan in metres or in micrometres fits either way
 _ARRAY_AXIS = {"z": 0, "y": 1, "x": 2}          # axis name -> axis of Voxels.data
 _ROT90_AXES = {"z": (2, 1), "x": (1, 0), "y": (0, 2)}  # np.rot90 axes turning x->y, y->z, z->x respectively
 
@@ -91,6 +96,15 @@ def check_size(w: int, h: int, d: int, scalar_bytes: int = 0) -> None:
                           f" over the {_fmt_bytes(MAX_BYTES)} limit")
 
 
+def check_spacing(sx: float, sy: float, sz: float) -> Spacing:
+    """(sx, sy, sz) as floats, if each is finite and within MIN_SPACING..MAX_SPACING; else VolumeError."""
+    spacing = tuple(float(s) for s in (sx, sy, sz))
+    if not all(math.isfinite(s) and MIN_SPACING <= s <= MAX_SPACING for s in spacing):
+        raise VolumeError(f"each spacing must be within {MIN_SPACING:g}..{MAX_SPACING:g}, got "
+                          f"{' '.join(f'{s:g}' for s in spacing)}")
+    return spacing
+
+
 def whole(name: str, value: object) -> int:
     try:
         return operator.index(value)
@@ -155,9 +169,9 @@ class ChangeRecord:
 
 class Voxels(ChangeRecord):
     """The RGBA voxels (`data`, indexed z, y, x) and, for a volume loaded from scalars, those `scalars`: the voxels
-    are their colours through its transfer function; and a scalar volume's `labels` (app/model/volume/labels.py),
-    painted over the scan with a change record of their own. `version` counts changes of `data`; `changed_since`
-    says where.
+    are their colours through its transfer function; a scalar volume's `labels` (app/model/volume/labels.py),
+    painted over the scan with a change record of their own; the `spacing` of the voxels (x, y, z), which the box's
+    shape follows. `version` counts changes of `data`; `changed_since` says where.
 
     Whoever writes `data` (the painting, the history) marks the box with `changed`; the other writes here do."""
 
@@ -166,6 +180,7 @@ class Voxels(ChangeRecord):
         self.data = own_rgba(data)
         self.scalars: Scalars | None = None
         self.labels = None  # a scalar volume's Labels (app/model/volume/labels.py), even before any is painted
+        self.spacing = DEFAULT_SPACING
 
     @property
     def size(self) -> tuple[int, int, int]:
@@ -181,6 +196,11 @@ class Voxels(ChangeRecord):
     def slice_size(self, axis: str) -> tuple[int, int]:
         w, h, d = self.size
         return {"z": (w, h), "y": (w, d), "x": (h, d)}[check_axis(axis)]
+
+    def slice_spacing(self, axis: str) -> tuple[float, float]:
+        """The spacing along a slice's u and v (as slice_size orders them)."""
+        sx, sy, sz = self.spacing
+        return {"z": (sx, sy), "y": (sx, sz), "x": (sy, sz)}[check_axis(axis)]
 
     def depth(self, axis: str) -> int:
         return self.data.shape[_ARRAY_AXIS[check_axis(axis)]]
@@ -231,6 +251,8 @@ class Voxels(ChangeRecord):
 
     def digest(self) -> str:
         h = hashlib.sha256("{}x{}x{};".format(*self.size).encode())
+        if self.spacing != DEFAULT_SPACING:  # only then: a volume of 1 1 1 keeps the digest it had before spacing
+            h.update("spacing {!r} {!r} {!r};".format(*self.spacing).encode())
         if self.scalars is None:
             h.update(self.data.data)
         else:  # the colours follow from the values and the window: hashing them too would add 4 bytes a voxel
@@ -256,8 +278,11 @@ class Voxels(ChangeRecord):
         return self.data[(slice(None),) * _ARRAY_AXIS[axis] + (index,)]
 
     def turn(self, axis: str, turns: int) -> None:
-        """Quarter turns about an axis, the scalars and labels with the voxels."""
+        """Quarter turns about an axis, the scalars, labels and spacing with the voxels."""
         self.data = np.ascontiguousarray(np.rot90(self.data, turns, axes=_ROT90_AXES[axis]))
+        if turns % 2:  # the two axes across the turning one trade places
+            sx, sy, sz = self.spacing
+            self.spacing = {"x": (sx, sz, sy), "y": (sz, sy, sx), "z": (sy, sx, sz)}[axis]
         if self.scalars is not None:
             values = np.ascontiguousarray(np.rot90(self.scalars.values, turns, axes=_ROT90_AXES[axis]))
             values.flags.writeable = False
@@ -266,11 +291,18 @@ class Voxels(ChangeRecord):
             self.labels.turn(_ROT90_AXES[axis], turns)
         self.changed(None)
 
-    def swap(self, data: np.ndarray, scalars: Scalars | None) -> tuple[np.ndarray, Scalars | None]:
+    def swap(self, data: np.ndarray, scalars: Scalars | None,
+             spacing: Spacing = DEFAULT_SPACING) -> tuple[np.ndarray, Scalars | None, Spacing]:
         """Show another whole image (checked by the caller); returns the one shown before."""
-        shown = self.data, self.scalars
-        self.data, self.scalars = data, scalars
+        shown = self.data, self.scalars, self.spacing
+        self.data, self.scalars, self.spacing = data, scalars, spacing
         self.changed(None)
+        return shown
+
+    def respace(self, spacing: Spacing) -> Spacing:
+        """Give the voxels another spacing (checked by the caller); returns the one before. No voxel changes, so
+        `version` stays (nothing is uploaded again); the workspace's version shows the box's new shape."""
+        shown, self.spacing = self.spacing, spacing
         return shown
 
     def recolour(self, transfer: TransferFunction) -> None:

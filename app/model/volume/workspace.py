@@ -7,9 +7,9 @@ from typing import Callable
 import numpy as np
 
 from app.model.volume.volume import Volume
-from app.model.volume.voxels import Voxels
+from app.model.volume.voxels import DEFAULT_SPACING, Voxels
 from app.model.volume.samples import make
-from app.model.framing import orbit_distance
+from app.model.framing import filling_distance
 from app.model.volume.view import VolumeView, box_extents
 from app.model.workspace import Workspace, short_hash
 
@@ -66,10 +66,17 @@ class VolumeWorkspace(Workspace):
         self.view.index = self.volume.voxels.depth(self.view.axis) // 2
         self.clamp_slice()
 
+    def iso_value(self) -> float:
+        """The iso value iso mode draws: the one set (vol.iso), or the middle of the window (0 without scalars)."""
+        scalars = self.volume.voxels.scalars
+        if self.view.iso is not None:
+            return self.view.iso
+        return 0.0 if scalars is None else (scalars.transfer.low + scalars.transfer.high) / 2
+
     def version(self) -> tuple:
         labels = self.volume.voxels.labels
         drawn = None if labels is None else (id(labels), labels.version, labels.colour_version)
-        return self.volume.voxels.version, drawn, self.view.key()
+        return self.volume.voxels.version, self.volume.voxels.spacing, drawn, self.view.key()
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
@@ -79,14 +86,14 @@ class VolumeWorkspace(Workspace):
 
     def frame_commands(self, aspect: float) -> list[str]:
         cam = self.view.camera
-        extent = np.array(box_extents(self.volume.voxels.size))
-        distance = orbit_distance(cam, -extent, extent, aspect)
+        extent = np.array(box_extents(self.volume.voxels.size, self.volume.voxels.spacing))
+        distance = filling_distance(cam, -extent, extent, aspect)  # the box spans 80 % of the view
         return [f"orbit {cam.yaw!r} {cam.pitch!r} {distance!r}"]
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
-        snapshot file beside the demo, a scalar volume's scalars into an .npy (its labels beside it) and its window
-        and label colours into commands."""
+        snapshot file beside the demo, a scalar volume's scalars into an .npy (its labels beside it) and its window,
+        label colours and spacing into commands."""
         v, scalars = self.view, self.volume.voxels.scalars
         if scalars is not None:
             t = scalars.transfer
@@ -98,6 +105,10 @@ class VolumeWorkspace(Workspace):
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
             lines = [f"load {snapshot()}"]
+        if (spacing := self.volume.voxels.spacing) != DEFAULT_SPACING:  # a snapshot keeps the voxels alone
+            lines.append(f"vol.spacing {' '.join(map(repr, spacing))}")
+        if v.iso is not None:
+            lines.append(f"vol.iso {v.iso!r}")
         return lines + [
             f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
             f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",

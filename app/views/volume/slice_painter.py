@@ -18,6 +18,7 @@ from app.commands.volume_labels import BRUSH_LABEL, OPACITY
 from app.model.volume.voxels import AXES
 from app.views.keys import key_name
 from app.views.volume.label_row import LabelRow
+from app.views.volume.scalar_mode_row import ScalarModeRow
 from app.views.volume.transfer_panel import TransferPanel
 
 NEIGHBOUR_OPACITY = 0.22  # the faint neighbouring slices under transparent voxels
@@ -50,7 +51,7 @@ class SliceCanvas(QWidget):
         self.editor, self.state = editor, state
         self.tool = "brush"
         self.erase = False
-        self.zoom = 0.0  # pixels per voxel; 0 = fit on first paint
+        self.zoom = 0.0  # pixels per voxel along its shorter side; 0 = fit on first paint
         self.offset = QPointF(0, 0)  # canvas position of voxel (0, 0)
         self.points: list[tuple[int, int]] = []
         self.hover: tuple[int, int] | None = None
@@ -63,10 +64,23 @@ class SliceCanvas(QWidget):
         self.setCursor(Qt.CursorShape.BlankCursor)  # the brush outline is the cursor
 
     # -- geometry ---------------------------------------------------------------------------
+    def aspect(self) -> tuple[float, float]:
+        """A voxel's width and height in units of its shorter side: the slice shows its physical shape (a CT's
+        0.5 mm pixels and 2 mm slices make a side view's voxels four times as tall as wide)."""
+        su, sv = self.state.volume.voxels.slice_spacing(self.state.view.axis)
+        return su / min(su, sv), sv / min(su, sv)
+
+    def cell(self) -> tuple[float, float]:
+        """Pixels a voxel spans across and down."""
+        ku, kv = self.aspect()
+        zoom = self.fitted()
+        return zoom * ku, zoom * kv
+
     def fit(self) -> None:
         u, v = self.state.volume.voxels.slice_size(self.state.view.axis)
-        self.zoom = max(0.5, min(self.width() / u, self.height() / v) * 0.92)
-        self.offset = QPointF((self.width() - u * self.zoom) / 2, (self.height() - v * self.zoom) / 2)
+        ku, kv = self.aspect()
+        self.zoom = max(0.5, min(self.width() / (u * ku), self.height() / (v * kv)) * 0.92)
+        self.offset = QPointF((self.width() - u * ku * self.zoom) / 2, (self.height() - v * kv * self.zoom) / 2)
 
     def fitted(self) -> float:
         """Pixels per voxel; fits the slice first when it changed shape and was not drawn since (a click can come
@@ -76,9 +90,9 @@ class SliceCanvas(QWidget):
         return self.zoom
 
     def to_voxel(self, pos: QPointF) -> tuple[int, int]:
-        zoom = self.fitted()  # before reading the offset, which fitting moves
-        p = (pos - self.offset) / zoom
-        return int(np.floor(p.x())), int(np.floor(p.y()))
+        cu, cv = self.cell()  # before reading the offset, which fitting moves
+        p = pos - self.offset
+        return int(np.floor(p.x() / cu)), int(np.floor(p.y() / cv))
 
     def zoom_about(self, factor: float, pos: QPointF) -> None:
         new = min(max(self.fitted() * factor, 0.25), 256.0)  # fitted first: the offset below is the fit's
@@ -117,12 +131,12 @@ class SliceCanvas(QWidget):
         return np.ascontiguousarray(rgba.round().astype(np.uint8))
 
     def paintEvent(self, _event) -> None:
-        self.fitted()
+        cu, cv = self.cell()
         painter = QPainter(self)
         painter.fillRect(self.rect(), QColor(40, 42, 50))
         data = self.image()
         h, w = data.shape[:2]
-        target = QRectF(self.offset.x(), self.offset.y(), w * self.zoom, h * self.zoom)
+        target = QRectF(self.offset.x(), self.offset.y(), w * cu, h * cv)
         self._checkerboard(painter, target)
         image = QImage(data.data, w, h, 4 * w, QImage.Format.Format_RGBA8888)
         painter.drawImage(target, image)
@@ -148,8 +162,8 @@ class SliceCanvas(QWidget):
         size = self.editor.console.registry.cvars["brush_size"].value if self.tool == "brush" else 1
         u, v = self.hover
         lo = u - (size - 1) // 2, v - (size - 1) // 2
-        rect = QRectF(self.offset.x() + lo[0] * self.zoom, self.offset.y() + lo[1] * self.zoom,
-                      size * self.zoom, size * self.zoom)
+        cu, cv = self.cell()
+        rect = QRectF(self.offset.x() + lo[0] * cu, self.offset.y() + lo[1] * cv, size * cu, size * cv)
         painter.setPen(QPen(QColor(255, 255, 255), 1.5))
         round_brush = self.editor.console.registry.cvars["brush_round"].value and size > 2
         painter.drawEllipse(rect) if round_brush and self.tool == "brush" else painter.drawRect(rect)
@@ -284,6 +298,8 @@ class SlicePainter(QWidget):
         layout.addLayout(tool_row)
         layout.addWidget(self.canvas, 1)
         self.transfer = TransferPanel(state, run)  # a scalar volume's window and colour map
+        self.modes = ScalarModeRow(state, self.editor.console.registry.cvars, run)  # and how it is drawn
+        self.transfer.layout().addWidget(self.modes)
         layout.addWidget(self.transfer)
         self.axis.currentTextChanged.connect(lambda a: self._set_slice(a, self.state.view.index))
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
@@ -302,6 +318,7 @@ class SlicePainter(QWidget):
         """Show the model's values without sending them back as commands."""
         self.transfer.sync()
         self.labels.sync()
+        self.modes.sync()
         view, vol = self.state.view, self.state.volume.voxels
         self.colour.setVisible(vol.labels is None)
         cvars = self.editor.console.registry.cvars
@@ -314,10 +331,11 @@ class SlicePainter(QWidget):
             widget.blockSignals(True)
             getattr(widget, setter)(value)
             widget.blockSignals(False)
-        shape = (view.axis, vol.slice_size(view.axis))
+        shape = (view.axis, vol.slice_size(view.axis), vol.slice_spacing(view.axis))
         if shape != getattr(self, "_shape", None):
-            self.canvas.zoom = 0  # refit: another axis, a new or rotated volume
+            self.canvas.zoom = 0  # refit: another axis, a new or rotated volume, another spacing
             self._shape = shape
+            self.canvas.update()
         labels = None if vol.labels is None else (id(vol.labels), vol.labels.version, vol.labels.colour_version,
                                                   cvars[OPACITY].value)
         shown = (vol.version, labels, view.axis, view.index, view.brush, cvars["brush_size"].value,
