@@ -12,6 +12,7 @@ import pytest
 
 from app.console.demo import VirtualClock
 from app.editor import Editor
+from app.io.atomic import name_max
 from app.io.volume_labels import labels_path, read_labels
 from app.model.volume.labels import DEFAULT_COLOURS, Labels
 from app.model.volume.volume import Volume
@@ -269,6 +270,20 @@ def test_a_demo_replays_labels_and_a_demo_started_from_labels_snapshots_them(vol
     later = Editor(clock=VirtualClock())
     assert later.execute(f"timedemo {tmp_path / 'more'}"), errors(later)
     assert later.digest() == volume_editor.digest()
+
+
+def test_a_record_name_with_no_room_for_the_labels_beside_its_snapshot_is_refused_at_record(volume_editor, tmp_path):
+    """A scan's snapshot `<demo>.start.npy` has its labels beside it, `<demo>.start.seg.nrrd`: the longest name a
+    recording writes, which `record` must leave room for (or `stop` could not write it)."""
+    load(volume_editor, tmp_path, scan())
+    assert volume_editor.execute("label.voxel 1 1 1 3")
+    room = name_max(tmp_path) - len(".start.seg.nrrd")
+    assert not volume_editor.execute(f"record {tmp_path / ('d' * (room + 1))}")  # .start.nrrd would fit
+    assert (f"too long a name: with .start.seg.nrrd (a snapshot it may write beside the demo) it has "
+            f"{name_max(tmp_path) + 1} bytes") in errors(volume_editor)[-1]
+    assert f"give at most {room} bytes before .demo" in errors(volume_editor)[-1]
+    assert volume_editor.execute(f"record {tmp_path / ('d' * room)}; stop"), errors(volume_editor)
+    assert (tmp_path / f"{'d' * room}.start.seg.nrrd").is_file() and (tmp_path / f"{'d' * room}.start.npy").is_file()
 
 
 def test_a_scan_with_no_label_keeps_the_digest_it_had_before_labels(volume_editor, tmp_path):

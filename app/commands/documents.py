@@ -153,9 +153,10 @@ class Documents:
         return tuple(sorted({x for state in self.workspaces if state.files is not None for x in state.files.suffixes}))
 
     def written_suffixes(self) -> tuple[str, ...]:
-        """The suffixes some workspace writes (those of `suffixes` not only read): what a snapshot may be."""
+        """The suffixes some workspace writes (those of `suffixes` not only read, and those of the files it writes
+        beside them): what a snapshot, or a file beside it, may end in."""
         return tuple(sorted({x for state in self.workspaces if state.files is not None
-                             for x in state.files.suffixes if x not in state.files.read_only}))
+                             for x in (*state.files.suffixes, *state.files.beside) if x not in state.files.read_only}))
 
     def track(self) -> None:
         """Each workspace's own verbs that replace its scene (SceneFiles.replacing) ask first and leave it

@@ -20,6 +20,7 @@ from app.commands.volume_args import check_tolerance as _tolerance, stroke_point
 from app.io.volume_formats import (READ_ONLY, SCALAR_SUFFIXES, SPACING_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES,
                                    FormatError, is_volume_source, read_dicom_files, read_volume_file,
                                    suffix_of, write_volume)
+from app.io.volume_labels import LABELS_SUFFIX
 from app.model.camera3d import OrbitCamera
 from app.model.volume import voxels as voxels_model
 from app.model.volume.labels import Labels
@@ -84,12 +85,13 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
                       max=10.0, archive=True))
     console.batch_listeners.append(ScriptSteps(state))
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
-    # scalar volume); an autosave of a scalar volume keeps its window in a .nrrd; File > New makes an empty volume
-    # of the same size
+    # scalar volume, its labels beside it); an autosave of a scalar volume keeps its window in a .nrrd; File > New
+    # makes an empty volume of the same size
     state.files = SceneFiles(partial(load, ctx), partial(write, ctx), (".r3", *(s for s in SUPPORTED if s != ".r3")),
                              new=partial(new_same_size, ctx), replacing=("new", "sample"), verbs=("load", "save"),
                              keeping=partial(kept_suffix, ctx), read_only=READ_ONLY,
-                             claims=partial(is_volume_source, max_bytes=voxels_model.MAX_BYTES))
+                             claims=partial(is_volume_source, max_bytes=voxels_model.MAX_BYTES),
+                             beside=(LABELS_SUFFIX,))
     COMMANDS.register(console.registry, ctx, checks)
     volume_labels.COMMANDS.register(console.registry, ctx, checks)
 

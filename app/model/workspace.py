@@ -36,7 +36,9 @@ class SceneFiles:
     `keeping`: the suffix of a file that keeps the scene as it stands, where that depends on the scene (a scalar
     volume's window and colour map only go into .nrrd): its autosave takes it.
     `read_only`: the suffixes it reads but never writes (NIfTI, DICOM): Save asks where, as for an untitled scene.
-    `claims`: whether a path of none of its suffixes is its file all the same (a folder of DICOM slices)."""
+    `claims`: whether a path of none of its suffixes is its file all the same (a folder of DICOM slices).
+    `beside`: the suffixes of files a save may write beside the scene's, in place of its suffix (a scan's labels:
+    `ct.nrrd` -> `ct.seg.nrrd`): a demo's snapshot has them beside it too."""
     load: Callable[[str], str]
     save: Callable[[str], None]
     suffixes: tuple[str, ...]
@@ -47,6 +49,7 @@ class SceneFiles:
     keeping: Callable[[], str] | None = None
     read_only: tuple[str, ...] = ()
     claims: Callable[[str], bool] | None = None
+    beside: tuple[str, ...] = ()
 
     def keeping_suffix(self) -> str:
         return self.suffixes[0] if self.keeping is None else self.keeping()
