@@ -1,5 +1,5 @@
-"""A scan's labels in the 3D view (headless GL): every mode draws them as the CPU reference does, a scan with no
-label draws as before, and the label texture follows the labels a sub-box at a time."""
+"""A scan's labels in the 3D view (headless GL): every mode, the scalar modes too, draws them as the CPU reference
+does, a scan with no label draws as before, and the label texture follows the labels a sub-box at a time."""
 import numpy as np
 import pytest
 
@@ -8,10 +8,13 @@ from app.gl.core.shaders import ShaderLibrary
 from app.gl.volume.raytracer import RayTracer, TraceSettings
 from app.model.camera3d import OrbitCamera
 from app.model.volume.render_modes import MODES
+from app.model.volume.scalar_modes import SCALAR_MODES
+from app.model.volume.scalars import TransferFunction
 from app.model.volume.view import VolumeView
 from app.model.volume.volume import Volume
 from app.reference.volume import render as reference
 from app.reference.volume_labels import LabelLayer
+from app.reference.volume_scalar import render as scalar_reference
 from app.resources import SHADERS
 
 SIZE = (48, 48)
@@ -54,6 +57,26 @@ def test_labels_over_every_mode_match_the_reference(gl, tracer, mode):
     image = gpu(gl, tracer, vol, mode=mode, steps=128, label_opacity=0.7)
     expected = cpu(vol, mode, 0.7)
     unlabelled = cpu(vol, mode, 0.0)
+    assert (np.abs(expected - unlabelled).max(-1) > 0.1).mean() > 0.02  # the labels show in every mode
+    err = np.abs(image - expected).max(-1)
+    assert np.sqrt((err ** 2).mean()) < 0.02 and np.percentile(err, 95) < 0.03
+
+
+@pytest.mark.parametrize("scalar", SCALAR_MODES[1:])
+def test_labels_over_every_scalar_mode_match_the_reference(gl, tracer, scalar):
+    """Over the values' modes (r_scalarMode) as over the F-modes: in front of iso's surface, along the whole ray in
+    the others."""
+    vol = blob_scan()
+    vol.set_transfer(TransferFunction(0.0, 1000.0, "bone"))
+    image = gpu(gl, tracer, vol, scalar_mode=scalar, iso=400.0, steps=128, label_opacity=0.7)
+    scalars, labels = vol.voxels.scalars, vol.voxels.labels
+
+    def cpu_scalar(opacity: float) -> np.ndarray:
+        return scalar_reference(scalars.values, scalars.transfer, VIEW.camera, SIZE, scalar, 128, iso=400.0,
+                                background=np.array(VIEW.background) / 255.0,
+                                labels=LabelLayer(labels.data, labels.colours, opacity))
+
+    expected, unlabelled = cpu_scalar(0.7), cpu_scalar(0.0)
     assert (np.abs(expected - unlabelled).max(-1) > 0.1).mean() > 0.02  # the labels show in every mode
     err = np.abs(image - expected).max(-1)
     assert np.sqrt((err ** 2).mean()) < 0.02 and np.percentile(err, 95) < 0.03
