@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 
+import nibabel as nib
 import nrrd
 import numpy as np
 import pytest
@@ -13,7 +14,7 @@ import pytest
 from app.console.demo import VirtualClock
 from app.editor import Editor
 from app.io.atomic import name_max
-from app.io.volume_labels import labels_path, read_labels
+from app.io.volume_labels import labels_path, read_labels, write_labels
 from app.model.volume.labels import DEFAULT_COLOURS, Labels
 from app.model.volume.volume import Volume
 from app.model.volume.voxels import VolumeError
@@ -28,8 +29,11 @@ def scan(w=20, h=16, d=6) -> np.ndarray:
 
 
 def load(editor, tmp_path, values, name="ct.npy"):
-    np.save(tmp_path / name, values) if name.endswith(".npy") else nrrd.write(str(tmp_path / name), values,
-                                                                            index_order="C")
+    """Write `values` to `name` (.npy or .nrrd; another file the test has written) and load it."""
+    if name.endswith(".npy"):
+        np.save(tmp_path / name, values)
+    elif name.endswith(".nrrd"):
+        nrrd.write(str(tmp_path / name), values, index_order="C")
     assert editor.execute(f"load {tmp_path / name}"), errors(editor)
     return editor.workspaces["volume"].volume
 
@@ -194,6 +198,26 @@ def test_save_writes_a_slicer_segmentation_beside_the_scan_and_load_reads_it(vol
     assert volume_editor.execute(f"save {tmp_path / 'colours.r3'}")
     assert "the labels are not kept" in infos(volume_editor)[-1]
     assert not (tmp_path / "colours.seg.nrrd").exists()
+
+
+def test_the_labels_file_of_a_nifti_scan_or_a_dicom_folder_drops_its_whole_suffix(volume_editor, tmp_path):
+    """`ct.nii.gz` -> `ct.seg.nrrd` (not `ct.nii.seg.nrrd`), a DICOM folder `series` -> `series.seg.nrrd` beside
+    it; and `load` of the .nii.gz finds the labels there, with the spacing the NIfTI file gives."""
+    assert labels_path(tmp_path / "ct.nii.gz") == labels_path(tmp_path / "ct.NII.GZ") == tmp_path / "ct.seg.nrrd"
+    assert labels_path(tmp_path / "ct.nii") == labels_path(tmp_path / "ct.nrrd") == tmp_path / "ct.seg.nrrd"
+    assert labels_path(tmp_path / "series") == tmp_path / "series.seg.nrrd"
+    values = scan()
+    nib.save(nib.Nifti1Image(np.ascontiguousarray(values.transpose(2, 1, 0)), np.diag([0.5, 0.5, 2.0, 1.0])),
+             tmp_path / "ct.nii.gz")
+    vol = load(volume_editor, tmp_path, values, "ct.nii.gz")
+    assert vol.voxels.spacing == (0.5, 0.5, 2.0) and vol.voxels.labels.data is None
+    labels = np.zeros(values.shape, np.uint8)
+    labels[2, 3:5, 4:9] = 6
+    write_labels(tmp_path / "ct.seg.nrrd", labels, DEFAULT_COLOURS)
+    vol = load(volume_editor, tmp_path, values, "ct.nii.gz")
+    assert f"labels from {tmp_path / 'ct.seg.nrrd'}: label 6 (10 voxels)" in infos(volume_editor)[-1]
+    np.testing.assert_array_equal(vol.voxels.labels.data, labels)
+    assert vol.voxels.spacing == (0.5, 0.5, 2.0)
 
 
 def test_a_labels_file_left_beside_a_scan_saved_without_labels_is_cleared(volume_editor, tmp_path):
