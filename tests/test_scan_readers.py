@@ -423,3 +423,11 @@ def test_a_script_reads_no_series_in_a_folder_beside_it_but_the_user_may(volume_
     assert not volume_editor.execute(f"exec {tmp_path / 'scripts' / 's.cfg'}")
     assert any(f"may not read {tmp_path / 'scripts' / 'ct' / '*'}" in line for line in logged(volume_editor, "error"))
     assert volume_editor.execute(f"load {tmp_path / 'scripts' / 'ct'}")
+
+
+def test_an_orientation_a_mutated_affine_leaves_undefined_is_a_note_not_a_crash():
+    """Found by the fuzz: an affine of NaN made nibabel's SVD fail, an all-zero one gave None axis codes."""
+    from app.io.volume_formats.nifti import orientation
+    assert orientation(np.full((4, 4), np.nan)) == "unknown"
+    assert orientation(np.zeros((4, 4))) == "???"
+    assert orientation(np.eye(4)) == "RAS"

@@ -98,9 +98,19 @@ def read(path: PathLike, max_bytes: int) -> VolumeFile:
         slope, inter = header.get_slope_inter()
     sizes = [float(f"{s:.7g}") for s in voxel_sizes(affine)]  # the affine is float32: 2.0000000529 is 2
     spacing = usable_spacing(sizes, notes, "affine's voxel sizes")
-    axes = "".join(nib.aff2axcodes(affine))
+    axes = orientation(affine)
     notes.append(f"voxel sizes {' '.join(f'{s:g}' for s in sizes)}"
                  f"{'' if unit == 'unknown' else ' ' + unit}; orientation {axes} (the affine's) is not applied: "
                  "x, y, z are the file's i, j, k")
     values = rescaled(path, native(np.frombuffer(data, dtype).reshape(k, j, i)), slope, inter, notes, max_bytes)
     return VolumeFile(as_volume(values), spacing=spacing, notes=tuple(notes))
+
+
+def orientation(affine: np.ndarray) -> str:
+    """The affine's axis codes ("RAS"), "?" for an axis it leaves undefined, or "unknown" where it has none (NaN,
+    or a matrix whose SVD does not converge): the orientation is only a note, so a bad one never refuses a file."""
+    try:
+        codes = nib.aff2axcodes(affine)
+    except (ValueError, np.linalg.LinAlgError):
+        return "unknown"
+    return "".join(code or "?" for code in codes)
