@@ -74,7 +74,9 @@ class VolumeWorkspace(Workspace):
         return 0.0 if scalars is None else (scalars.transfer.low + scalars.transfer.high) / 2
 
     def version(self) -> tuple:
-        return self.volume.voxels.version, self.volume.voxels.spacing, self.view.key()
+        scalars = self.volume.voxels.scalars  # an opacity curve changes no voxel, so not the voxels' version
+        return (self.volume.voxels.version, self.volume.voxels.spacing, self.view.key(),
+                scalars.transfer if scalars is not None else None)
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
@@ -97,6 +99,8 @@ class VolumeWorkspace(Workspace):
             t = scalars.transfer
             lines = [f"load {snapshot('.npy')}", f"vol.colormap {t.colormap}",
                      f"vol.window {t.low!r} {t.high!r}"]
+            if t.points is not None:  # only then: a demo without a curve opens as it did before curves
+                lines.append("vol.opacity " + " ".join(f"{v!r} {a!r}" for v, a in t.points))
         elif self.volume.voxels.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
