@@ -60,3 +60,14 @@ def test_each_preset_draws_as_its_reference(gl, tracer, name):  # noqa: F811
     image = gpu(gl, tracer, scalar_volume(values, transfer), "translucent")
     assert rmse(image, cpu(values, "translucent", transfer=transfer)) < 0.006
     assert np.abs(image - np.array(VIEW.background) / 255.0).max() > 0.1  # it shows something of the phantom
+
+
+@pytest.mark.parametrize("mode", ["mip", "minip", "average", "iso"])
+def test_the_projections_and_iso_take_a_presets_colour_map(gl, tracer, mode):  # noqa: F811
+    values = ct_phantom(24)
+    low, high = (-3100.0, -900.0) if mode == "minip" else (-1100.0, 1200.0)  # minip: the air's range
+    transfer = TransferFunction(low, high, "ct_bone", PRESETS["ct_bone"].points)
+    image = gpu(gl, tracer, scalar_volume(values, transfer), mode)
+    assert rmse(image, cpu(values, mode, transfer=transfer)) < 0.006
+    grey = gpu(gl, tracer, scalar_volume(values, TransferFunction(low, high, "grey")), mode)
+    assert rmse(image, grey) > 0.01  # the colours are the map's
