@@ -215,5 +215,6 @@ def test_every_declared_command_is_registered_in_the_workspace(editor):
     registry = editor.console.registry
     scoped = {key for key in registry.commands if key.startswith("volume:")}
     assert scoped == {f"volume:{d.name}" for d in volume.COMMANDS.declared + volume_labels.COMMANDS.declared}
-    # as many as the closure registered (none lost in the move), vol.spacing and vol.iso
-    assert len(volume.COMMANDS.declared) == 33
+    # as many as the closure registered (none lost in the move), vol.spacing, vol.iso, vol.opacity (.preview, .reset)
+    # and vol.preset
+    assert len(volume.COMMANDS.declared) == 37

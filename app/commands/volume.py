@@ -27,8 +27,10 @@ from app.model.volume.labels import Labels
 from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume.samples import SAMPLES, make
 from app.model.volume.scalar_modes import ISO_MODE, MIP_ATTENUATION, SCALAR_DEFAULT, SCALAR_MODES
-from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
-                                      default_window, value_range)
+from app.console.text import count, number
+from app.model.volume.scalars import (COLORMAPS, PERCENTILES, OpacityPoints, TransferFunction, check_colormap,
+                                      check_opacity_points, check_window, default_window, value_range)
+from app.model.volume.transfer_presets import PRESETS, check_preset
 from app.model.volume.voxels import AXES, DEFAULT_SPACING, Spacing, VolumeError, check_spacing, transparent
 from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
@@ -533,6 +535,82 @@ def colormap(ctx: Ctx, name: str) -> None:
     volume = ctx.state.volume
     scalars = volume.voxels.require_scalars()
     volume.set_transfer(replaced(scalars.transfer, colormap=name))  # the model checks the name
+
+
+def _curve_text(points) -> str:
+    return " ".join(f"{number(v)} {number(a)}" for v, a in points)
+
+
+@COMMANDS.check("vol.opacity")
+def opacity_args(ctx: Ctx, numbers: list[float] | None = None) -> OpacityPoints | None:
+    if not numbers:
+        return None
+    if len(numbers) % 2:
+        raise CommandError("give the opacity curve as pairs, value opacity: v0 a0 [v1 a1 ...]; got "
+                           + count(len(numbers), "number"))
+    return check_opacity_points(zip(numbers[0::2], numbers[1::2]))
+
+
+def _translucent_note(ctx: Ctx) -> None:
+    mode = ctx.console.registry.cvars.get("r_scalarMode")
+    if mode is not None and mode.value != "translucent":
+        ctx.console.print(f"the opacity curve draws in r_scalarMode translucent (now {mode.value})")
+
+
+@COMMANDS.command("vol.opacity", "[points:float...]", "Show or set a scalar volume's opacity curve, the translucent "
+                  "mode's: pairs of value (data units, increasing) and opacity per voxel of ray (0..1), linear between "
+                  "them and constant beyond the ends; vol.opacity.reset goes back to the ramp over the window",
+                  allow=SCRIPTS)
+def opacity(ctx: Ctx, numbers: list[float] | None = None) -> None:
+    points = opacity_args(ctx, numbers)
+    volume = ctx.state.volume
+    transfer = volume.voxels.require_scalars().transfer
+    if points is None:
+        own = "set" if transfer.points is not None else "the ramp over the window, until one is set"
+        ctx.console.print(f"opacity {_curve_text(transfer.opacity())} ({own})")
+    elif volume.set_transfer(replaced(transfer, points=points), "Set Opacity"):
+        _translucent_note(ctx)
+
+
+@COMMANDS.command("vol.opacity.preview", "points:float...", "Show an opacity curve being dragged in the transfer "
+                  "function editor until the next edit; not recorded (vol.opacity sets it)", recorded=False, quiet=True,
+                  allow=SCRIPTS)
+def opacity_preview(ctx: Ctx, numbers: list[float]) -> None:
+    points = opacity_args(ctx, numbers)
+    volume = ctx.state.volume
+    if points is None:
+        raise CommandError("give the curve to show: v0 a0 [v1 a1 ...]")
+    volume.preview_transfer(replaced(volume.voxels.require_scalars().transfer, points=points))
+
+
+@COMMANDS.command("vol.opacity.reset", "", "Set a scalar volume's opacity curve back to the ramp over the window "
+                  "(0 at low to 1 at high), what a scan opens with", allow=SCRIPTS)
+def opacity_reset(ctx: Ctx) -> None:
+    volume = ctx.state.volume
+    volume.set_transfer(replaced(volume.voxels.require_scalars().transfer, points=None), "Reset Opacity")
+
+
+@COMMANDS.check("vol.preset")
+def preset_name(ctx: Ctx, name: str) -> str:
+    check_preset(name)
+    return name
+
+
+def preset_names(ctx: Ctx, prefix: str) -> list[str]:
+    return [p for p in PRESETS if p.startswith(prefix)]
+
+
+@COMMANDS.command("vol.preset", "name", "Set a scalar volume's window, colour map and opacity curve at once, as 3D "
+                  "Slicer's volume-rendering presets: " + ", ".join(PRESETS),
+                  completer=preset_names, allow=SCRIPTS)
+def preset(ctx: Ctx, name: str) -> None:
+    chosen = PRESETS[preset_name(ctx, name)]
+    volume = ctx.state.volume
+    transfer = chosen.transfer(volume.voxels.require_scalars().values)
+    volume.set_transfer(transfer, f"Preset {chosen.title}")
+    ctx.console.print(f"{chosen.title}: window {_window_text(transfer)}, {transfer.colormap}, opacity "
+                      f"{_curve_text(transfer.points)}")
+    _translucent_note(ctx)
 
 
 @COMMANDS.check("vol.spacing")

@@ -5,6 +5,7 @@ import bz2
 import io
 import math
 import zlib
+from dataclasses import replace
 from typing import BinaryIO
 
 import nrrd
@@ -30,6 +31,7 @@ _NRRD_ENDIAN = {"little": "<", "big": ">"}
 _NRRD_ENCODINGS = ("raw", "gzip", "gz", "bzip2", "bz2")
 _NRRD_MAX_HEADER = 1 << 16
 _NRRD_WINDOW = "shadelab_window"  # a key/value field: a scalar volume's window and colour map
+_NRRD_OPACITY = "shadelab_opacity"  # and its opacity curve where it has one: "v0 a0 v1 a1 ..."
 _PIECE = 1 << 16  # bytes read, and inflated, at a time
 
 
@@ -137,9 +139,19 @@ def _nrrd_transfer(path: PathLike, header: dict, dtype: np.dtype) -> TransferFun
         raise FormatError(f"{path}: its {_NRRD_WINDOW} field must be 'low high colour-map' and go with 16-bit or "
                           f"float voxels, not {str(text)[:60]!r} with {dtype} voxels")
     try:
-        return TransferFunction(float(words[0]), float(words[1]), words[2])
+        transfer = TransferFunction(float(words[0]), float(words[1]), words[2])
     except ValueError as exc:  # not a number, or a window or colour map the model refuses
         raise FormatError(f"{path}: its {_NRRD_WINDOW} field: {exc}") from None
+    curve = header.get(_NRRD_OPACITY)
+    if curve is None:
+        return transfer
+    try:
+        numbers = [float(w) for w in str(curve).split()]
+        if len(numbers) % 2:
+            raise ValueError(f"{len(numbers)} numbers are no (value, opacity) pairs")
+        return replace(transfer, points=tuple(zip(numbers[0::2], numbers[1::2])))
+    except ValueError as exc:  # not a number, or a curve the model refuses
+        raise FormatError(f"{path}: its {_NRRD_OPACITY} field: {exc}") from None
 
 
 def _nrrd_dtype(path: PathLike, header: dict) -> np.dtype:
@@ -165,6 +177,8 @@ def write(path: PathLike, data: np.ndarray, transfer: TransferFunction | None = 
         header["spacings"] = [math.nan] * (data.ndim - 3) + list(spacing)
     if transfer is not None:  # a key/value field (":="), which other NRRD readers pass over
         header[_NRRD_WINDOW] = f"{transfer.low!r} {transfer.high!r} {transfer.colormap}"
+        if transfer.points is not None:
+            header[_NRRD_OPACITY] = " ".join(f"{v!r} {a!r}" for v, a in transfer.points)
     # C order: sizes come out as 4 w h d (w h d for scalars); pynrrd states the byte order of wider types. Level 1:
     # a 256^3 int16 CT phantom gzips in 0.4 s to 15.0 MB, level 6 in 2.0 s to 14.6 MB (autosaves write these).
     nrrd.write(buffer, data, header, compression_level=1, index_order="C")

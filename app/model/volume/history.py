@@ -147,7 +147,7 @@ class VoxelHistory:
         self._undo: deque[Step] = deque()
         self._redo: list[Step] = []
         self._pushes = 0
-        self._preview: Patch | None = None
+        self._preview: Patch | Window | None = None  # painted voxels, or a transfer function, shown unrecorded
         self.nbytes = 0  # what the undo and redo steps hold; a push clears redo, undo/redo only move steps
 
     @property
@@ -234,7 +234,16 @@ class VoxelHistory:
         (self.voxels.labels if labels else self.voxels).changed(box)
         return box
 
+    def preview_transfer(self, transfer: TransferFunction) -> None:
+        """A transfer function shown but not recorded (an opacity point being dragged), put back as `preview`'s."""
+        self.clear_preview()
+        self._preview = Window(self.voxels.scalars.transfer)
+        self.voxels.recolour(transfer)
+
     def clear_preview(self) -> None:
-        if self._preview is not None:
+        if isinstance(self._preview, Window):
+            window, self._preview = self._preview, None
+            window.apply(self.voxels, undo=True)
+        elif self._preview is not None:
             patch, self._preview = self._preview, None
             patch.apply(self.voxels, undo=True)

@@ -82,13 +82,14 @@ class Volume:
         self.history.push(Respace(self.voxels.respace(spacing)))
         return True
 
-    def set_transfer(self, transfer: TransferFunction) -> bool:
-        """Colour the scalars through another window or colour map, as one undo step; False if it is the same."""
+    def set_transfer(self, transfer: TransferFunction, name: str = "Set Window") -> bool:
+        """Colour the scalars through another window, colour map or opacity curve, as one undo step called `name`;
+        False if it is the same."""
         self.history.clear_preview()
         scalars = self.voxels.require_scalars()
         if transfer == scalars.transfer:
             return False
-        self.history.push(Window(scalars.transfer))
+        self.history.push(Window(scalars.transfer, name=name))
         self.voxels.recolour(transfer)
         return True
 
@@ -101,3 +102,8 @@ class Volume:
             return False
         self.history.push(LabelColour(label, labels.set_colour(label, rgb)))
         return True
+
+    def preview_transfer(self, transfer: TransferFunction) -> None:
+        """Show another transfer function until the next edit (a drag in the transfer-function editor), unrecorded."""
+        self.voxels.require_scalars()
+        self.history.preview_transfer(transfer)

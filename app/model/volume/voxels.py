@@ -306,10 +306,13 @@ class Voxels(ChangeRecord):
         return shown
 
     def recolour(self, transfer: TransferFunction) -> None:
-        """Every voxel again from the scalars: the texture uploads the volume once."""
+        """Every voxel again from the scalars: the texture uploads the volume once. A transfer function that differs
+        in its opacity curve alone colours nothing again: no voxel changes, so `version` stays."""
+        same = self.scalars.transfer.same_colours(transfer)
         self.scalars = Scalars(self.scalars.values, transfer)
-        colour(self.scalars.values, transfer, self.data)
-        self.changed(self.full_box())
+        if not same:
+            colour(self.scalars.values, transfer, self.data)
+            self.changed(self.full_box())
 
     def _index(self, axis: str, index: int) -> int:
         n = self.depth(axis)

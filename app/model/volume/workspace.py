@@ -76,7 +76,9 @@ class VolumeWorkspace(Workspace):
     def version(self) -> tuple:
         labels = self.volume.voxels.labels
         drawn = None if labels is None else (id(labels), labels.version, labels.colour_version)
-        return self.volume.voxels.version, self.volume.voxels.spacing, drawn, self.view.key()
+        scalars = self.volume.voxels.scalars  # an opacity curve changes no voxel, so not the voxels' version
+        return (self.volume.voxels.version, self.volume.voxels.spacing, drawn, self.view.key(),
+                scalars.transfer if scalars is not None else None)
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
@@ -101,6 +103,8 @@ class VolumeWorkspace(Workspace):
                      f"vol.window {t.low!r} {t.high!r}"]
             lines += [f"label.color {n} {' '.join(map(str, rgb))}"
                       for n, rgb in self.volume.voxels.labels.recoloured().items()]
+            if t.points is not None:  # only then: a demo without a curve opens as it did before curves
+                lines.append("vol.opacity " + " ".join(f"{v!r} {a!r}" for v, a in t.points))
         elif self.volume.voxels.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
