@@ -21,6 +21,7 @@ from app.gl.core.shaders import query_gs_limits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.workspace_renderer import WorkspaceRenderer
 from app.model.clouds import scene as cm
+from app.model.clouds.exposure import ToneSettings
 from app.model.clouds.scene import PARAM, CloudParams, CloudRenderSettings, CloudView, ParamError
 from app.model.clouds.workspace import CloudsWorkspace
 from app.reference import clouds as rc
@@ -28,7 +29,11 @@ from app.resources import SHADERS
 from tests.test_clouds_reference import textures
 
 SIZE = (48, 27)
-PLAIN = CloudRenderSettings(steps=48, downsample=1, jitter=False, taa=False, reproject=False, furnace=True)
+# The picture as its linear radiance, clamped to 0..1 (0 EV, no automatic exposure, the clamp curve), so the
+# furnace's 1 shows as 1.
+LINEAR = ToneSettings(0.0, False, "clamp")
+PLAIN = CloudRenderSettings(steps=48, downsample=1, jitter=False, taa=False, reproject=False, furnace=True,
+                            tone=LINEAR)
 TOLERANCE = 2 / 255
 
 
@@ -235,7 +240,8 @@ def test_a_white_furnace_hides_the_clouds_on_the_gpu(host, view):
 
 def test_a_white_furnace_hides_the_clouds_with_every_optimisation(host):
     params = CloudParams(direct=0.0, **CLOUDY)
-    settings = CloudRenderSettings(steps=48, furnace=True)  # reduced buffer, reprojection, jitter, TAA, skips
+    # reduced buffer, reprojection, jitter, TAA, skips
+    settings = CloudRenderSettings(steps=48, furnace=True, tone=LINEAR)
     picture, clouds, _ = render(host, params, VIEWS["below, looking up"], settings, frames=6)
     assert clouds[..., 3].max() > 0.5
     shown = clouds[..., :3] + (1 - clouds[..., 3:])
@@ -246,9 +252,10 @@ def the_most_the_sun_and_sky_give(fr, alpha: np.ndarray, cos: np.ndarray) -> np.
     """(..., 3): alpha (1 + sun_light 4 pi max_k P(cos, c^k)) -- what a non-absorbing layer of opacity alpha
     returns at most towards the eye if every sample in it sees the whole sun unshaded and the whole unit sky:
     it scatters the sky's 1 and the sun by the phase (the largest of the octaves' lobes), never more than it
-    takes out of the ray."""
+    takes out of the ray. sun_light: the brighter of the layer's base and top (the physical sky's differ)."""
     lobes = np.max([rc.phase(fr, cos, fr.octave_eccentricity ** k) for k in range(cm.OCTAVES)], axis=0)
-    return alpha[..., None] * (1 + np.array(fr.sun_light) * 4 * math.pi * lobes[..., None])
+    sun = np.maximum(fr.sun_light, fr.sun_light_top)
+    return alpha[..., None] * (1 + sun * 4 * math.pi * lobes[..., None])
 
 
 @pytest.mark.parametrize("view", sorted(VIEWS))

@@ -26,7 +26,8 @@ def inputs(window):
 
 def test_the_menus_and_what_each_action_runs(window):
     menus = window.menus.menus
-    assert texts(menus["file"]) == ["&New", "&Open...", "Open &Recent", "&Save", "Save &As...", "&Quit"]
+    assert texts(menus["file"]) == ["&New", "&Open...", "Open &Folder...", "Open &Recent", "&Save", "Save &As...",
+                                    "&Quit"]
     assert texts(menus["edit"]) == ["&Undo", "&Redo"]
     assert texts(menus["view"]) == ["Editor", "Console", "Speed vs accuracy", "&Frame All", "Reset &Layout"]
     assert texts(menus["help"]) == ["&Keys", "&Documentation", "&About Shadelab"]

@@ -196,8 +196,10 @@ def light_lookups(frame: Frame, textures: CloudTextures, p, rho, cos) -> tuple[n
     total = total + weight * (r * (1 + b)).sum(1)
     lookups = lookups + count.sum(1)
     tau = frame.extinction * step * total
-    ambient = _lerp(np.array(frame.ambient_base), np.array(frame.ambient_top), height(p)[:, None])
-    s = np.array(frame.sun_light) * sun_energy(frame, tau, rho, cos)[:, None] + ambient
+    h = height(p)[:, None]
+    sun = _lerp(np.array(frame.sun_light), np.array(frame.sun_light_top), h)
+    ambient = _lerp(np.array(frame.ambient_base), np.array(frame.ambient_top), h)
+    s = sun * sun_energy(frame, tau, rho, cos)[:, None] + ambient
     return s.reshape(shape + (3,)), lookups.reshape(shape)
 
 

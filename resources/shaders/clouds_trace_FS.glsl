@@ -12,6 +12,8 @@ layout(location = 1) out vec4 out_lookups;
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy) * u_stride + u_phase;
     vec2 ndc = (vec2(pixel) + 0.5) / vec2(u_buffer) * 2.0 - 1.0;
-    out_clouds = march(u_camera, ray_dir(ndc), pixel);
+    vec3 d = ray_dir(ndc);
+    vec4 clouds = march(u_camera, d, pixel);
+    out_clouds = aerial_perspective(clouds, d, cloud_depth);
     out_lookups = vec4(lookups, 0.0, 0.0, 1.0);
 }

@@ -8,7 +8,9 @@ Passes per frame (docs/clouds.md, "Optimisations"):
    (reprojected through a turn; clamped to what was traced around them while the clock runs), or this
    frame's buffer, bilinear, where the last frame has nothing;
 3. taa (without reprojection): the history, clamped to this frame's 3x3 neighbourhood, blended with it;
-4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground."""
+4. composite: the buffer (bilinear) under or over the cirrus, over the sky or the shadowed ground, into a float
+   target: linear radiance, unclamped;
+5. tone map (app/gl/clouds/tone_map.py): exposure, the tone curve and sRGB encoding into the output."""
 from __future__ import annotations
 
 import math
@@ -17,10 +19,12 @@ from dataclasses import asdict, replace
 import moderngl
 import numpy as np
 
+from app.gl.clouds.atmosphere import AtmosphereTables
+from app.gl.clouds.tone_map import ToneMap
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
-from app.model.clouds.scene import CloudRenderSettings, Frame, furnace
+from app.model.clouds.scene import ATMOSPHERE, CloudRenderSettings, Frame, furnace
 
 # The order in which reprojection traces the pixels of a d x d block, one a frame (index = x + d y), each
 # frame's pixel far from the last ones: Bayer's for 2 and Guerrilla's 4x4, a dispersed one for 3.
@@ -110,9 +114,11 @@ class CloudRenderer:
     def __init__(self, ctx: moderngl.Context, shaders) -> None:
         self.ctx, self.shaders = ctx, shaders
         self.textures: CloudTexturesGL | None = None
+        self.atmosphere = AtmosphereTables(ctx, shaders)
         self.units = TextureUnits()  # every pass's samplers: the noise stays bound while each pass binds its own
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._targets: dict[str, Target] = {}
+        self.tone_map = ToneMap(ctx, shaders)
         self.frame_index = 0
         self._key = None           # what the histories were made with: all but the clock and the turn
         self._basis = None         # the last frame's camera basis: a turn reprojects through it
@@ -124,6 +130,7 @@ class CloudRenderer:
         self.reprojected_frames = 0
         self.last_lookups: Target | None = None  # the lookups of the last frame's cloud buffer
         self.last_clouds: moderngl.Texture | None = None  # the buffer the last composite read
+        self.last_hdr: moderngl.Texture | None = None     # the last frame's linear radiance (the tone map's input)
 
     # ---- targets ------------------------------------------------------------------------------------
 
@@ -156,8 +163,8 @@ class CloudRenderer:
         size = fbo.size
         bsize = buffer_size(size, settings.downsample)
         aspect = size[0] / max(size[1], 1)
-        values = uniforms(frame, settings, aspect, self.frame_index)
-        values.update(self.textures.use(self.units))
+        self.atmosphere.update(ATMOSPHERE, frame.camera[1], frame.sun_dir[1])  # first: its passes bind their own units
+        values = self._scene_values(frame, settings, aspect)
         # The histories hold while only the clock moves (the winds, a weather blend); reprojection's also
         # through a turn of the camera (a direction's colour does not depend on where the camera looks);
         # anything else restarts them (docs/clouds.md, "Optimisations").
@@ -165,7 +172,7 @@ class CloudRenderer:
         clock = (frame.wind_offset, frame.weather_offset, frame.high_offset, frame.blend)
         key = (replace(frame, forward=None, right=None, up=None, wind_offset=None, weather_offset=None,
                        high_offset=None, blend=None),
-               replace(settings, debug_samples=False), size, weather.version)
+               replace(settings, debug_samples=False, tone=None), size, weather.version)
         history = 0 if key != self._key else 1 if basis == self._basis else 2
         self._clock_moved = clock != self._clock
         values.update(u_buffer=bsize)
@@ -176,11 +183,22 @@ class CloudRenderer:
         else:
             self.taa_frames = 0
         self.last_clouds = clouds
-        self._draw("clouds_composite", fbo, values,
+        hdr = None if settings.debug_samples else self._target("hdr", size, (4,))  # the lookups view: no light
+        self._draw("clouds_composite", fbo if hdr is None else hdr.fbo, values,
                    **self.units.bind(u_clouds=clouds, u_lookups=self.last_lookups.textures[1]),
                    u_size=tuple(map(float, size)), u_debug=int(settings.debug_samples))
+        if hdr is not None:
+            self.last_hdr = hdr.textures[0]
+            self.tone_map.apply(self.last_hdr, fbo, settings.tone, restart=history == 0)
         self._key, self._basis, self._clock = key, basis, clock
         self.frame_index += 1
+
+    def _scene_values(self, frame: Frame, settings: CloudRenderSettings, aspect: float) -> dict:
+        """The uniforms every pass shares, the textures bound: the frame's, the noise's and the atmosphere's."""
+        values = uniforms(frame, settings, aspect, self.frame_index)
+        values.update(self.textures.use(self.units), **self.atmosphere.uniforms(ATMOSPHERE),
+                      **self.units.bind(u_atmosphere=self.atmosphere.atlas))
+        return values
 
     def _trace(self, size, bsize, settings, values, history: int) -> moderngl.Texture:
         if not reprojects(settings):
@@ -238,8 +256,11 @@ class CloudRenderer:
 
     def settling(self, settings: CloudRenderSettings) -> bool:
         """Whether more frames of an unchanged scene still change the image (the histories fill): TAA has
-        something to average only while the jitter moves; reprojection fills its blocks in d^2 frames."""
+        something to average only while the jitter moves; reprojection fills its blocks in d^2 frames; an
+        automatic exposure adapts to the frame's light."""
         averaging = settings.taa and settings.jitter
+        if not settings.debug_samples and self.tone_map.settling():
+            return True
         if reprojects(settings):
             return self.reprojected_frames < (TAA_FRAMES if averaging else settings.downsample ** 2)
         return averaging and self.taa_frames < TAA_FRAMES
@@ -250,8 +271,7 @@ class CloudRenderer:
         counts = self.last_lookups.textures[1]
         march = float(np.frombuffer(counts.read(), dtype="f4").reshape(-1, counts.components)[:, 0].sum())
         target = self._target("lookups", size, (1,))
-        values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
-        values.update(self.textures.use(self.units))
+        values = self._scene_values(frame, settings, size[0] / max(size[1], 1))
         self._draw("clouds_composite", target.fbo, values,
                    **self.units.bind(u_clouds=self.last_clouds, u_lookups=counts), u_size=tuple(map(float, size)),
                    u_debug=2)

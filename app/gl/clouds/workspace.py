@@ -1,6 +1,6 @@
 """The clouds workspace's renderer: its model's frame through the cloud renderer; it keeps asking for
-frames while its temporal histories fill (TAA, reprojection). Its cheaper levels trace a smaller cloud buffer
-and, last, fewer steps."""
+frames while its temporal histories fill (TAA, reprojection) and its automatic exposure adapts. Its cheaper
+levels trace a smaller cloud buffer and, last, fewer steps."""
 from __future__ import annotations
 
 from dataclasses import replace
