@@ -14,8 +14,12 @@ from functools import lru_cache
 import numpy as np
 
 from app.bench.shadows import shadow_edge
+from app.gl.core.headless import OffscreenTarget
+from app.gl.core.shaders import ShaderLibrary
+from app.gl.lights3d.renderer import Lights3DRenderer
 from app.model.lights3d.scene import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
 from app.reference import lights3d as reference
+from app.resources import SHADERS
 
 SIZE = (160, 120)
 GROUND = Object3D("plane", (400.0,), (0.0, 0.0, 0.0), (0.75, 0.75, 0.72))
@@ -100,3 +104,12 @@ def near_a_jump(ref: reference.Result, eye) -> np.ndarray:
         jump[a] |= step
         jump[b] |= step
     return jump
+
+
+def renderer_and_target(gl, size):
+    """A module fixture's body: a 3D-lights renderer and an offscreen target of `size`, released after."""
+    renderer, target = Lights3DRenderer(gl, ShaderLibrary(gl, [SHADERS])), OffscreenTarget(gl, size)
+    yield renderer, target
+    renderer.release()
+    gl.detect_framebuffer(0).use()  # moderngl binds its last framebuffer again: never a deleted one
+    target.release()

@@ -21,7 +21,7 @@ from app.model.lights3d.workspace import Lights3DWorkspace
 from app.reference import lights3d as reference
 from app.resources import SHADERS
 from tests.gl_state import differences, snapshot
-from tests.shadow_cases import near_a_jump
+from tests.shadow_cases import camera_at, near_a_jump
 
 SIZE = (128, 96)
 CLOSE = Lights3DCamera(distance=250.0)  # the default scene filling more of the view
@@ -100,14 +100,6 @@ def test_each_method_matches_the_references_shadow(host, method, settings, bound
     print(f"\n{method} {settings or ''}: mismatch point {errors[0]:.3%}, spot {errors[1]:.3%}, "
           f"directional {errors[2]:.3%}")
     assert max(errors) <= bound
-
-
-def camera_at(eye, target) -> Lights3DCamera:
-    offset = np.subtract(eye, target)
-    distance = float(np.linalg.norm(offset))
-    return Lights3DCamera(yaw=float(np.degrees(np.arctan2(offset[0], offset[2]))),
-                          pitch=float(np.degrees(np.arcsin(offset[1] / distance))), distance=distance,
-                          target=tuple(map(float, target)))
 
 
 def test_the_eye_inside_a_shadow_volume_breaks_zpass_not_zfail(host):

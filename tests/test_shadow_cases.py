@@ -5,14 +5,10 @@ quotes them."""
 import numpy as np
 import pytest
 
-from app.gl.core.headless import OffscreenTarget
-from app.gl.core.shaders import ShaderLibrary
 from app.gl.core.stencil import GL
-from app.gl.lights3d.renderer import Lights3DRenderer
 from app.gl.lights3d.shadow_methods import METHODS
 from app.reference import lights3d as reference
-from app.resources import SHADERS
-from tests.shadow_cases import CASES, SIZE, judge, near_a_jump, shadow_edge, truth
+from tests.shadow_cases import CASES, SIZE, judge, near_a_jump, renderer_and_target, shadow_edge, truth
 
 BOUND = 0.01        # of the reference's shadowed pixels, off the shadow edges
 RIGHT = ("onepass", "zpass", "zfail")  # exact there: the eye outside every volume in these cases
@@ -24,11 +20,7 @@ OFF = 4 / 255       # a lit frame's pixel further than this from the reference's
 
 @pytest.fixture(scope="module")
 def host(gl):
-    renderer, target = Lights3DRenderer(gl, ShaderLibrary(gl, [SHADERS])), OffscreenTarget(gl, SIZE)
-    yield renderer, target
-    renderer.release()
-    gl.detect_framebuffer(0).use()  # moderngl binds its last framebuffer again: never a deleted one
-    target.release()
+    yield from renderer_and_target(gl, SIZE)
 
 
 @pytest.mark.parametrize("name", list(CASES))
