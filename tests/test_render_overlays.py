@@ -1,12 +1,13 @@
 """`shadelab render` draws the scene, not the editor: the volume's slice plane, the 2D light icons and hull outlines,
 the 3D lights' markers and gizmo only with --overlays, which the host passes (the editor's viewport always does)."""
+import subprocess
+import sys
 from dataclasses import replace
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from app import cli
 from app.editor import Editor
 from app.gl.core.headless import OffscreenTarget
 from app.gl.core.workspace_renderer import WorkspaceRenderer
@@ -17,7 +18,14 @@ SIZE = (96, 72)
 def frame(host, editor, overlays: bool) -> np.ndarray:
     target = OffscreenTarget(host.ctx, SIZE)
     host.render(target.fbo, editor.current, editor.render_settings(), overlays=overlays)
+    return read_and_release(host.ctx, target)
+
+
+def read_and_release(ctx, target: OffscreenTarget) -> np.ndarray:
+    """The picture; then the target deleted while not bound (GL reports a deleted bound framebuffer at the next
+    one made, which moderngl takes for a failure to create it)."""
     image = target.read()
+    ctx.detect_framebuffer(0).use()
     target.release()
     return image
 
@@ -34,9 +42,7 @@ def scene_alone(host, editor) -> np.ndarray:
                               marks=False)
     else:
         renderer.lights.render(target.fbo, state.scene, state.camera, settings, state.selection, marks=False)
-    image = target.read()
-    target.release()
-    return image
+    return read_and_release(host.ctx, target)
 
 
 def select_2d_light(editor) -> bool:
@@ -79,7 +85,11 @@ def test_the_2d_debug_wireframe_is_a_setting_not_an_overlay(gl):
 def test_shadelab_render_takes_overlays(tmp_path):
     def render(*args) -> np.ndarray:
         out = tmp_path / f"{len(list(tmp_path.iterdir()))}.png"
-        assert cli.main(["render", "volume", "--size", "64x48", "--out", str(out), *args]) == 0
+        # its own process: `render` makes and releases a headless context, which would leave this module's
+        # context no longer current for the tests after it
+        done = subprocess.run([sys.executable, "-m", "app", "render", "volume", "--size", "64x48", "--out", str(out),
+                               *args], capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr
         return np.asarray(Image.open(out))
 
     plain = render()
