@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 import moderngl
+import numpy as np
 
 from app.gl.core.stencil import GL  # first: it sets PyOpenGL's platform up
 from OpenGL.GL.EXT.depth_bounds_test import GL_DEPTH_BOUNDS_EXT, GL_DEPTH_BOUNDS_TEST_EXT, glDepthBoundsEXT
@@ -28,12 +29,13 @@ def depth_bounds(ctx: moderngl.Context, bounds: tuple[float, float] | None) -> I
         yield False
         return
     was_on = bool(GL.glIsEnabled(GL_DEPTH_BOUNDS_TEST_EXT))
-    before = [float(v) for v in GL.glGetDoublev(GL_DEPTH_BOUNDS_EXT)]
+    before = np.zeros(2)  # passed in: PyOpenGL's table of sizes gives this query one value, GL writes two
+    GL.glGetDoublev(GL_DEPTH_BOUNDS_EXT, before)
     GL.glEnable(GL_DEPTH_BOUNDS_TEST_EXT)
     glDepthBoundsEXT(*bounds)
     try:
         yield True
     finally:
-        glDepthBoundsEXT(*before)
+        glDepthBoundsEXT(*map(float, before))
         if not was_on:
             GL.glDisable(GL_DEPTH_BOUNDS_TEST_EXT)
