@@ -7,13 +7,14 @@ Both draw the same scan from the same camera at the same picture size, with step
 cube every scan is fitted into), the same window (vispy's clim) and the same colours and opacity
 (app/bench/volume_scalar.py `vispy_job`: vispy's translucent alpha is once a step, ours once a voxel of ray, so
 vispy is given the curve corrected for its step). vispy runs in its own process (app/bench/vispy_peer.py) and
-stores the values as float32 (texture_format "auto"; its default 8 bits doubles its error). Times are medians of
-`--runs` frames after one: `draw` the frame up to glFinish, `frame` with the picture read back (vispy's
-`canvas.render()` reads it back; its draw alone is the fairer figure, ours likewise).
+stores the values as float32 (texture_format "auto"; its default 8 bits doubles its error). Times are the medians
+over `--rounds` rounds (ours and vispy's in turn) of the medians of `--runs` frames after one: `draw` the frame up
+to glFinish, `frame` with the picture read back (what vispy's `canvas.render()` times; the draw alone is the fairer
+figure for both).
 
     PYTHONPATH=.:/path/to/vispy python scripts/measure_vs_vispy.py SCAN [SCAN ...] [--side 256] [--size 256 256]
-        [--steps 1 2] [--runs 15] [--opacity 0.1] [--window LOW HIGH] [--out table.md|table.csv] [--save-npy DIR]
-        [--images DIR]
+        [--steps 1 2] [--runs 15] [--rounds 3] [--opacity 0.1] [--window LOW HIGH] [--out table.md|table.csv]
+        [--save-npy DIR] [--images DIR]
 
 SCAN is a (d, h, w) .npy, a .nii/.nii.gz (read with nibabel, which must then be installed; turned upright) or
 `phantom` (the CT phantom, app/model/volume/phantom.py). Each is fitted into side^3: shrunk (linear) if a side is
@@ -110,13 +111,15 @@ def ours(ctx, values: np.ndarray, transfer: TransferFunction, mode: str, size, c
 def measure(args) -> tuple[list[dict], list[str]]:
     size = tuple(args.size)
     with_vispy = vispy_peer.available()
+    tools = ("ours", "vispy") if with_vispy else ("ours",)
     notes = [] if with_vispy else ["vispy is not installed (an optional peer): ours alone"]
     ctx = create_context()
     rows = []
     try:
-        notes.append(f"ours on {ctx.info['GL_RENDERER']}; {size[0]}x{size[1]}, yaw {VIEW.camera.yaw:g} pitch "
-                     f"{VIEW.camera.pitch:g} distance {VIEW.camera.distance:g}, {args.runs} runs, reference at "
-                     f"{args.reference_step:g} voxel a step")
+        camera = VIEW.camera
+        notes.append(f"ours on {ctx.info['GL_RENDERER']}; {size[0]}x{size[1]}, yaw {camera.yaw:g} pitch "
+                     f"{camera.pitch:g} distance {camera.distance:g}, {args.rounds} rounds of {args.runs} frames, "
+                     f"reference at {args.reference_step:g} voxel a step")
         for path in args.scans:
             name, values = load(path, args.side)
             if args.save_npy:
@@ -128,13 +131,14 @@ def measure(args) -> tuple[list[dict], list[str]]:
                 notes.append(f"{name} {mode}: window {transfer.low:g}..{transfer.high:g}, CPU reference in "
                              f"{time.perf_counter() - start:.0f} s")
                 for step in args.steps:
-                    draw_ms, frame_ms, image = ours(ctx, values, transfer, mode, size, args.side / step, args.runs)
-                    found = [("ours", draw_ms, frame_ms, image)]
-                    if with_vispy:
+                    def draw(tool: str) -> tuple[float, float, np.ndarray]:
+                        if tool == "ours":
+                            return ours(ctx, values, transfer, mode, size, args.side / step, args.runs)
                         result = vispy_peer.run(vispy_job(values, transfer, mode, VIEW.camera, size, step,
                                                           args.runs))
-                        found.append(("vispy", float(result["ms"]), float(result["frame_ms"]),
-                                      result["image"] / 255.0))
+                        return float(result["ms"]), float(result["frame_ms"]), result["image"] / 255.0
+
+                    found = [(tool, *times) for tool, times in _rounds(draw, tools, args.rounds).items()]
                     if args.images:
                         _save_images(Path(args.images) / f"{path.split('/')[-1].split('.')[0]}_{mode}_{step:g}.png",
                                      [image for *_, image in found] + [truth])
@@ -148,6 +152,17 @@ def measure(args) -> tuple[list[dict], list[str]]:
     finally:
         release_context(ctx)
     return rows, notes
+
+
+def _rounds(draw, tools: tuple[str, ...], rounds: int) -> dict[str, tuple[float, float, np.ndarray]]:
+    """Each tool's median times over `rounds` rounds of `draw`, the tools in turn (in the opposite order every
+    other round), so that a machine busy for a while slows both alike; and its picture."""
+    times = {tool: [] for tool in tools}
+    for r in range(rounds):
+        for tool in tools if r % 2 == 0 else tools[::-1]:
+            times[tool].append(draw(tool))
+    return {tool: (statistics.median(t[0] for t in found), statistics.median(t[1] for t in found), found[-1][2])
+            for tool, found in times.items()}
 
 
 def _save_images(path: Path, images: list[np.ndarray]) -> None:
@@ -187,7 +202,8 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--size", type=int, nargs=2, default=(256, 256), metavar=("W", "H"))
     parser.add_argument("--steps", type=float, nargs="+", default=(1.0, 2.0), help="voxels a step")
     parser.add_argument("--reference-step", type=float, default=0.25, help="the reference's voxels a step")
-    parser.add_argument("--runs", type=int, default=15)
+    parser.add_argument("--runs", type=int, default=15, help="frames timed a round, after one")
+    parser.add_argument("--rounds", type=int, default=3, help="rounds of ours and vispy's frames, in turn")
     parser.add_argument("--opacity", type=float, default=0.1, help="translucent's opacity a voxel at the high end")
     parser.add_argument("--window", type=float, nargs=2, metavar=("LOW", "HIGH"))
     parser.add_argument("--out", type=Path, help="the table as markdown (.md) or CSV (.csv)")
