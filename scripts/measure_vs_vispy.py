@@ -136,6 +136,8 @@ def measure(args) -> tuple[list[dict], list[str]]:
                             return ours(ctx, values, transfer, mode, size, args.side / step, args.runs)
                         result = vispy_peer.run(vispy_job(values, transfer, mode, VIEW.camera, size, step,
                                                           args.runs))
+                        if not any(n.startswith("vispy on") for n in notes):
+                            notes.append(f"vispy on {result['renderer']}")
                         return float(result["ms"]), float(result["frame_ms"]), result["image"] / 255.0
 
                     found = [(tool, *times) for tool, times in _rounds(draw, tools, args.rounds).items()]

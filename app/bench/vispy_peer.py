@@ -7,8 +7,8 @@ volume (d, h, w) in data units, the window `clim` (default 0..1), the colour map
 relative_step_size `step` (voxels a step), the threshold, the camera (our yaw, pitch, distance), the picture's size
 and the timed runs. Each frame draws into one framebuffer kept for all: `ms` is the median of the draws up to
 glFinish, as our rows time theirs; `frame_ms` adds reading the picture back (what `canvas.render()` does, less
-its new framebuffer each call). `available` and `run` are the bench's side: whether vispy is installed, and one
-job in its child process.
+its new framebuffer each call); `renderer` names the GL it ran on. `available` and `run` are the bench's side:
+whether vispy is installed, and one job in its child process.
 """
 from __future__ import annotations
 
@@ -88,7 +88,9 @@ def render(job: dict) -> dict:
             frames.append((time.perf_counter() - start) * 1e3)
     finally:
         canvas.pop_fbo()
-    return {"image": image[..., :3], "ms": statistics.median(draws), "frame_ms": statistics.median(frames)}
+    renderer = gloo.gl.glGetParameter(gloo.gl.GL_RENDERER)  # which GL vispy's EGL found (a GPU, or llvmpipe)
+    return {"image": image[..., :3], "ms": statistics.median(draws), "frame_ms": statistics.median(frames),
+            "renderer": str(renderer)}
 
 
 def main(argv: list[str]) -> int:
