@@ -7,10 +7,10 @@ Both draw the same scan from the same camera at the same picture size, with step
 cube every scan is fitted into), the same window (vispy's clim) and the same colours and opacity
 (app/bench/volume_scalar.py `vispy_job`: vispy's translucent alpha is once a step, ours once a voxel of ray, so
 vispy is given the curve corrected for its step). vispy runs in its own process (app/bench/vispy_peer.py) and
-stores the values as float32 (texture_format "auto"; its default 8 bits doubles its error). Times are the medians
-over `--rounds` rounds (ours and vispy's in turn) of the medians of `--runs` frames after one: `draw` the frame up
-to glFinish, `frame` with the picture read back (what vispy's `canvas.render()` times; the draw alone is the fairer
-figure for both).
+stores the values as float32 (texture_format "auto"; its default 8 bits adds half or more to its error). Times are
+the medians over `--rounds` rounds (ours and vispy's in turn) of the medians of `--runs` frames after one: `draw`
+the frame up to glFinish, `frame` with the picture read back (what vispy's `canvas.render()` times; the draw alone
+is the fairer figure for both).
 
     PYTHONPATH=.:/path/to/vispy python scripts/measure_vs_vispy.py SCAN [SCAN ...] [--side 256] [--size 256 256]
         [--steps 1 2] [--runs 15] [--rounds 3] [--opacity 0.1] [--window LOW HIGH] [--out table.md|table.csv]

@@ -103,7 +103,7 @@ def vispy_job(values: np.ndarray, transfer: TransferFunction, mode: str, camera:
     """The peer's job for our `mode` on `values` (d, h, w) at `voxels_a_step` (vispy's relative_step_size: its
     steps are that many voxels long, as ours are at cl_steps = the volume's side / voxels_a_step for a cube). The
     values go as float32 in a float texture (texture_format "auto"): vispy's default scales them to the window
-    and stores 8 bits, which doubles its error on a CT."""
+    and stores 8 bits, which adds half or more to its error on a CT."""
     return dict(volume=values.astype(np.float32), texture_format="auto",
                 clim=np.array((transfer.low, transfer.high)), cmap=vispy_colormap(transfer, mode, voxels_a_step),
                 method=mode, threshold=0.0, step=voxels_a_step, yaw=camera.yaw, pitch=camera.pitch,
