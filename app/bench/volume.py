@@ -14,8 +14,9 @@ from functools import lru_cache
 
 import numpy as np
 
+from app.bench import vispy_peer
 from app.bench.harness import Method, Technique
-from app.bench.volume_scalar import scalar_rows
+from app.bench.volume_scalar import scalar_rows, vispy_scalar_rows
 from app.gl.volume.raytracer import RayTracer, TraceSettings
 from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
@@ -100,22 +101,16 @@ def technique(quick: bool = False) -> Technique:
         reference=lambda *_: None,  # every method brings its own (one per mode)
         size=(128, 128),
         quick_size=(64, 64),
-        quick_scenes=("cornell",) if not vispy_available() else ("cornell", "cornell grey"),
+        quick_scenes=("cornell",) if not vispy_peer.available() else ("cornell", "cornell grey"),
         gl_rows=lambda ctx, quick, size, runs, progress: scalar_rows(
             ctx, side, size, runs, QUICK_STEPS if quick else STEPS, reference_steps(side), progress),
-        extra_rows=vispy_rows if vispy_available() else None,
+        extra_rows=vispy_rows if vispy_peer.available() else None,
     )
 
 
 # --- vispy, an optional extra: the same volume and camera drawn by vispy's Volume visual -----------
 
 VISPY_METHODS = {"average": 4, "iso": 2}  # vispy's method -> our closest mode (mean along the ray; first hit)
-
-
-def vispy_available() -> bool:
-    import importlib.util
-
-    return all(importlib.util.find_spec(m) is not None for m in ("vispy", "OpenGL"))
 
 
 def grey_scene(side: int):
@@ -131,38 +126,31 @@ def grey_scene(side: int):
 
 def vispy_rows(quick: bool, size: tuple[int, int], runs: int, progress) -> list:
     """Rows for vispy's methods, each against our reference of its closest mode (our modes also run on
-    this scene, so the CSV compares like with like)."""
-    import os
-    import subprocess
-    import sys
-    import tempfile
-
+    this scene, so the CSV compares like with like); then its mip and translucent against our scalar modes
+    (app/bench/volume_scalar.py). These rows' times include reading the picture back; the scalar ones' do not."""
     from app.bench.harness import Row, errors
 
     side = 32 if quick else 64
     name, voxels, view, grey = grey_scene(side)
+    steps = QUICK_STEPS if quick else STEPS
     rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for method, mode in VISPY_METHODS.items():
-            truth = _grey_reference(side, mode, size)
-            for steps in QUICK_STEPS if quick else STEPS:
-                job, out = os.path.join(tmp, "job.npz"), os.path.join(tmp, "out.npz")
-                cam = view.camera
-                np.savez(job, volume=grey, size=np.array(size), method=method, threshold=0.1,
-                         step=side / steps, yaw=cam.yaw, pitch=cam.pitch, distance=cam.distance, runs=runs)
-                env = {**os.environ, "EGL_PLATFORM": "surfaceless"}
-                done = subprocess.run([sys.executable, "-m", "app.bench.vispy_peer", job, out], env=env,
-                                      capture_output=True, text=True, timeout=300)
-                if done.returncode != 0:
-                    progress(f"vispy {method}: failed: {done.stderr.strip().splitlines()[-1:]}")
-                    return rows
-                result = np.load(out)
-                rmse, max_err = errors(result["image"] / 255.0, truth)
-                rows.append(Row("volume", f"vispy {method}", "cl_steps", float(steps), name, size[0], size[1],
-                                float(result["ms"]), float("nan"), runs, rmse, max_err))
-                progress(f"vispy {method:>8} {name} cl_steps={steps}: {float(result['ms']):8.2f} ms  "
-                         f"rmse {rmse:.2e}  max {max_err:.2e}")
-    return rows
+    for method, mode in VISPY_METHODS.items():
+        truth = _grey_reference(side, mode, size)
+        for s in steps:
+            cam = view.camera
+            try:
+                result = vispy_peer.run(dict(volume=grey, size=np.array(size), method=method, threshold=0.1,
+                                             step=side / s, yaw=cam.yaw, pitch=cam.pitch, distance=cam.distance,
+                                             runs=runs), timeout=300)
+            except RuntimeError as e:
+                progress(f"vispy {method}: {e}")
+                return rows
+            rmse, max_err = errors(result["image"] / 255.0, truth)
+            rows.append(Row("volume", f"vispy {method}", "cl_steps", float(s), name, size[0], size[1],
+                            float(result["frame_ms"]), float("nan"), runs, rmse, max_err))
+            progress(f"vispy {method:>8} {name} cl_steps={s}: {float(result['frame_ms']):8.2f} ms  "
+                     f"rmse {rmse:.2e}  max {max_err:.2e}")
+    return rows + vispy_scalar_rows(side, size, runs, steps, reference_steps(side), progress)
 
 
 @lru_cache(maxsize=None)

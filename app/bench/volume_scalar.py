@@ -76,3 +76,59 @@ def scalar_rows(ctx, side: int, size: tuple[int, int], runs: int, steps: tuple[i
         return rows
     finally:
         target.release()  # the tracer's textures go with the bench's context, as the harness's methods' do
+
+
+# --- vispy's Volume visual on the same scan (an optional peer, app/bench/vispy_peer.py) ---------------------------
+VISPY_MODES = ("mip", "translucent")  # vispy's methods of the same name compute what ours do
+
+
+def vispy_colormap(transfer: TransferFunction, mode: str, voxels_a_step: float) -> np.ndarray:
+    """vispy's colour map (256 RGBA colours, 0..1, evenly spaced over its clim, the window) that draws what our
+    `mode` draws. mip: the colour map's colours and alphas, so the greatest value shows over the background with
+    its alpha as ours does. translucent: the colour map's colours with the opacity curve's alpha; vispy composites
+    that alpha once a step where our curve's is once a voxel of ray, so it is corrected for the step as our shader
+    corrects it, 1 - (1 - a)^(voxels a step): both then approximate the same integral (at one voxel a step no
+    correction). vispy's clim clamps values outside the window to its ends: a curve for both keeps to the window."""
+    table = transfer.table() / 255.0
+    if mode == "translucent":
+        curve = transfer.opacity()
+        values = transfer.low + np.linspace(0.0, 1.0, len(table)) * (transfer.high - transfer.low)
+        alpha = np.interp(values, [p[0] for p in curve], [p[1] for p in curve])
+        table = np.concatenate([table[:, :3], 1.0 - (1.0 - alpha[:, None]) ** voxels_a_step], -1)
+    return table
+
+
+def vispy_job(values: np.ndarray, transfer: TransferFunction, mode: str, camera: OrbitCamera, size: tuple[int, int],
+              voxels_a_step: float, runs: int) -> dict:
+    """The peer's job for our `mode` on `values` (d, h, w) at `voxels_a_step` (vispy's relative_step_size: its
+    steps are that many voxels long, as ours are at cl_steps = the volume's side / voxels_a_step for a cube). The
+    values go as float32 in a float texture (texture_format "auto"): vispy's default scales them to the window
+    and stores 8 bits, which adds half or more to its error on a CT."""
+    return dict(volume=values.astype(np.float32), texture_format="auto",
+                clim=np.array((transfer.low, transfer.high)), cmap=vispy_colormap(transfer, mode, voxels_a_step),
+                method=mode, threshold=0.0, step=voxels_a_step, yaw=camera.yaw, pitch=camera.pitch,
+                distance=camera.distance, size=np.array(size), runs=runs)
+
+
+def vispy_scalar_rows(side: int, size: tuple[int, int], runs: int, steps: tuple[int, ...], reference_steps: int,
+                      progress) -> list[Row]:
+    """Rows `vispy mip` and `vispy translucent` on the phantom, at the same step lengths (cl_steps), window,
+    colours and opacity as the `scalar` rows, against the same references; their times the draws alone, as ours."""
+    from app.bench import vispy_peer
+
+    values = ct_phantom(side)
+    rows = []
+    for mode in VISPY_MODES:
+        for s in steps:
+            job = vispy_job(values, window(mode), mode, VIEW.camera, size, side / s, runs)
+            try:
+                result = vispy_peer.run(job, timeout=300)
+            except RuntimeError as e:
+                progress(f"vispy {mode}: {e}")
+                return rows
+            rmse, max_err = errors(result["image"] / 255.0, reference(side, mode, size, reference_steps))
+            ms = float(result["ms"])
+            progress(f"vispy {mode:>14} {SCENE} cl_steps={s}: {ms:8.2f} ms  rmse {rmse:.2e}  max {max_err:.2e}")
+            rows.append(Row("volume", f"vispy {mode}", "cl_steps", float(s), SCENE, size[0], size[1], ms,
+                            float("nan"), runs, rmse, max_err, {"frame_ms": float(result["frame_ms"])}))
+    return rows
