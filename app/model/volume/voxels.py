@@ -194,6 +194,13 @@ class Voxels(ChangeRecord):
         w, h, d = self.size
         return Box(0, 0, 0, w, h, d)
 
+    @property
+    def nbytes(self) -> int:
+        """What the voxels hold: an RGBA volume's colours, or a scan's values and its labels once painted."""
+        if self.scalars is None:
+            return self.data.nbytes
+        return self.scalars.nbytes + self.labels.nbytes
+
     # --- reading --------------------------------------------------------------------------------
 
     def slice_size(self, axis: str) -> tuple[int, int]:
