@@ -246,7 +246,8 @@ def value_histogram(values: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarr
 
 
 def colour(values: np.ndarray, transfer: TransferFunction, out: np.ndarray) -> None:
-    """Write the colours of `values` (d, h, w) into `out` (d, h, w, 4) uint8, C-contiguous, in place."""
+    """Write the colours of `values` (any shape: a volume, a slice, picked voxels) into `out` (that shape, 4) uint8,
+    C-contiguous, in place."""
     if out.shape != values.shape + (4,) or out.dtype != np.uint8 or not out.flags.c_contiguous:
         raise ScalarError(f"cannot colour {values.shape} scalars into a {out.dtype} array of shape {out.shape}")
     table = transfer.table()
