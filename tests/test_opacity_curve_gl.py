@@ -42,10 +42,10 @@ def test_a_curve_change_uploads_the_curve_alone_and_colours_nothing(gl, tracer):
     volume = scalar_volume(values, TransferFunction(-200.0, 1200.0, "bone"))
     before = gpu(gl, tracer, volume, "translucent")
     tracer.scalars.uploaded_voxels = tracer.volume.uploaded_voxels = 0
-    version, colours = volume.voxels.version, volume.voxels.data.copy()
+    version, colours = volume.voxels.version, volume.voxels.rgba()
     assert volume.set_transfer(TransferFunction(-200.0, 1200.0, "bone", ((150.0, 0.0), (700.0, 0.3))), "Set Opacity")
     after = gpu(gl, tracer, volume, "translucent")
-    assert volume.voxels.version == version and np.array_equal(volume.voxels.data, colours)
+    assert volume.voxels.version == version and np.array_equal(volume.voxels.rgba(), colours)
     assert tracer.scalars.uploaded_voxels == 0 and tracer.volume.uploaded_voxels == 0
     assert rmse(after, cpu(values, "translucent", transfer=volume.voxels.scalars.transfer)) < 0.006
     assert rmse(before, after) > 0.02

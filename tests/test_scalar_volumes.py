@@ -18,7 +18,7 @@ from app.gl.core.shaders import ShaderLibrary
 from app.io.volume_formats import read_volume
 from app.model.volume import voxels as voxels_model
 from app.model.volume.render_modes import TraceSettings
-from app.model.volume.scalars import COLORMAPS, TransferFunction, colour, default_window
+from app.model.volume.scalars import COLORMAPS, TransferFunction, default_window
 from app.model.volume.view import VolumeView
 from app.model.volume.volume import Volume
 from app.resources import SHADERS
@@ -91,8 +91,8 @@ def test_each_dtype_and_format_loads_through_the_default_window(volume_editor, t
     assert vol.voxels.scalars.transfer == TransferFunction(base + step, base + 99 * step, "grey")  # percentiles 1, 99
     expected = grey(values, base + step, base + 99 * step)
     # 16-bit values are placed in float32: a level exactly between two may round the other way
-    assert np.abs(vol.voxels.data.astype(int) - expected).max() <= 1
-    assert (vol.voxels.data[values == values.min()] == 0).all()  # the background is transparent
+    assert np.abs(vol.voxels.rgba().astype(int) - expected).max() <= 1
+    assert (vol.voxels.rgba()[values == values.min()] == 0).all()  # the background is transparent
     assert f"window {base + step:g}..{base + 99 * step:g}" in infos(volume_editor)[-1]
 
 
@@ -100,20 +100,20 @@ def test_the_window_changes_without_reloading_and_each_change_is_one_undo_step(v
     values = phantom("int16")
     vol = load(volume_editor, tmp_path, values, "ct.nrrd")
     (tmp_path / "ct.nrrd").unlink()  # nothing is read again
-    loaded, depth = vol.voxels.data.copy(), vol.history.undo_depth
+    loaded, depth = vol.voxels.rgba().copy(), vol.history.undo_depth
     assert volume_editor.execute("vol.window -1000 20")  # 255 levels over 1020: exact quarters
-    np.testing.assert_array_equal(vol.voxels.data, grey(values, -1000, 20))
+    np.testing.assert_array_equal(vol.voxels.rgba(), grey(values, -1000, 20))
     assert volume_editor.execute("vol.colormap viridis")
     viridis = COLORMAPS["viridis"]
-    assert tuple(vol.voxels.data[values >= 20][0]) == (*viridis[-1][1], 255)  # at the top of the window: opaque
-    assert tuple(vol.voxels.data[values <= -1000][0]) == (*viridis[0][1], 0)  # at the bottom: transparent
-    windowed = vol.voxels.data.copy()
+    assert tuple(vol.voxels.rgba()[values >= 20][0]) == (*viridis[-1][1], 255)  # at the top of the window: opaque
+    assert tuple(vol.voxels.rgba()[values <= -1000][0]) == (*viridis[0][1], 0)  # at the bottom: transparent
+    windowed = vol.voxels.rgba().copy()
     assert vol.history.undo_depth == depth + 2
     assert volume_editor.execute("undo") and volume_editor.execute("undo")
-    np.testing.assert_array_equal(vol.voxels.data, loaded)
+    np.testing.assert_array_equal(vol.voxels.rgba(), loaded)
     assert vol.voxels.scalars.transfer == TransferFunction(*default_window(values))
     assert volume_editor.execute("redo") and volume_editor.execute("redo")
-    np.testing.assert_array_equal(vol.voxels.data, windowed)
+    np.testing.assert_array_equal(vol.voxels.rgba(), windowed)
     assert volume_editor.execute("vol.window.auto")
     assert vol.voxels.scalars.transfer == TransferFunction(*default_window(values), "viridis")
     np.testing.assert_array_equal(vol.voxels.scalars.values, values)
@@ -154,7 +154,7 @@ def test_nan_is_transparent_and_infinities_clamp(volume_editor, tmp_path):
     values[0, 0, :3] = (np.nan, np.inf, -np.inf)
     vol = load(volume_editor, tmp_path, values, "v.nrrd")
     assert vol.voxels.scalars.transfer == TransferFunction(0.75, 25.25)  # the finite values' percentiles
-    assert [tuple(c) for c in vol.voxels.data[0, 0, :3]] == [(0, 0, 0, 0), (255, 255, 255, 255), (0, 0, 0, 0)]
+    assert [tuple(c) for c in vol.voxels.rgba()[0, 0, :3]] == [(0, 0, 0, 0), (255, 255, 255, 255), (0, 0, 0, 0)]
     assert volume_editor.execute("vol.window")
     assert "float32 scalars -inf..inf" in infos(volume_editor)[-1]
 
@@ -177,7 +177,7 @@ def test_rotations_turn_the_scalars_with_the_voxels(volume_editor, tmp_path):
         assert volume_editor.execute(f"vol.window {low} {low + 255 * 4}")
         assert volume_editor.execute(f"rotate {axis}")
         # the turned scalars give the turned colours: they turned the same way
-        np.testing.assert_array_equal(vol.voxels.data, grey(vol.voxels.scalars.values, low, low + 255 * 4))
+        np.testing.assert_array_equal(vol.voxels.rgba(), grey(vol.voxels.scalars.values, low, low + 255 * 4))
     for _ in range(6):
         assert volume_editor.execute("undo")
     assert vol.history.undo_depth == depth
@@ -217,18 +217,18 @@ def test_malformed_scalar_files_are_refused_and_change_nothing(volume_editor, tm
 def test_a_scalar_volume_over_the_memory_limit_is_refused_before_reading(volume_editor, tmp_path, monkeypatch):
     values = phantom("float64")
     WRITERS["nrrd"](tmp_path / "big.nrrd", values)
-    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12 - 1)  # room for its colours, not its scalars too
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12 - 1)  # the reader counts 4 bytes of colours too
     before = volume(volume_editor).voxels.digest()
     assert not volume_editor.execute("load big.nrrd")
     assert "its scalars and their colours" in errors(volume_editor)[-1]
     assert volume(volume_editor).voxels.digest() == before
-    with pytest.raises(voxels_model.VolumeError, match="RGBA data, scalars and labels"):
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 9 - 1)  # the model holds values and labels alone
+    with pytest.raises(voxels_model.VolumeError, match="scalars and labels"):
         volume(volume_editor).replace_scalars(values)
-    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 13 - 1)  # no room for a label a voxel
-    assert not volume_editor.execute("load big.nrrd")
-    assert "RGBA data, scalars and labels" in errors(volume_editor)[-1]
     assert volume(volume_editor).voxels.digest() == before
-    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 13)
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 9)
+    volume(volume_editor).replace_scalars(values)
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12)
     assert volume_editor.execute("load big.nrrd")
 
 
@@ -291,20 +291,20 @@ def test_an_autosaved_scalar_volume_recovers_as_scalars_with_its_window(volume_e
 
 
 def test_a_load_keeps_the_values_it_read_without_a_second_copy(volume_editor, tmp_path):
-    """Loading holds the values once (the reader's array is the model's), the colours, and colouring's slabs."""
+    """Loading holds the values once (the reader's array is the model's), no colours, and the default window's
+    temporaries (taken from at most WINDOW_SAMPLE voxels: a constant, whatever the scan's size)."""
     values = np.random.default_rng(0).integers(-1000, 1000, (128, 128, 128)).astype(np.int16)  # 4 MiB
     np.save(tmp_path / "big.npy", values)
-    colours = np.empty(values.shape + (4,), np.uint8)
     tracemalloc.start()
     try:
-        colour(values, TransferFunction(-500, 500), colours)
-        slabs = tracemalloc.get_traced_memory()[1]  # colouring's own temporaries
+        default_window(values)
+        window = tracemalloc.get_traced_memory()[1]  # the window's own temporaries
         tracemalloc.reset_peak()
         assert volume_editor.execute("load big.npy")
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
-    assert peak < values.nbytes + colours.nbytes + slabs + (1 << 20)  # a second copy would add 4 MiB
+    assert peak < values.nbytes + window + (1 << 20)  # a second copy would add 4 MiB, the colours 8 MiB
     np.testing.assert_array_equal(volume(volume_editor).voxels.scalars.values, values)
 
 
@@ -338,18 +338,18 @@ def test_a_demo_recorded_from_a_scalar_volume_replays_to_it(volume_editor, tmp_p
     assert fresh.digest() == volume_editor.digest()
 
 
-def test_a_window_change_uploads_the_volume_once(gl, volume_editor, tmp_path):
+def test_a_window_change_uploads_no_voxel_and_a_scan_holds_its_values_alone_on_the_gpu(gl, volume_editor, tmp_path):
     vol = load(volume_editor, tmp_path, phantom("int16"), "v.nrrd").voxels
     tracer = RayTracer(gl, ShaderLibrary(gl, [SHADERS]))
     fbo = gl.simple_framebuffer((32, 32))
-    settings = TraceSettings(mode=7, steps=32)  # empty-space skipping: the distance field follows the alpha too
+    settings = TraceSettings(mode=7, steps=32, scalar_mode="colour")  # empty-space skipping: the bricks, no field
     tracer.render(fbo, vol, VolumeView(), settings)
-    before = tracer.volume.uploaded_voxels
+    uploaded = tracer.scalars.uploaded_voxels
     volume_editor.execute("vol.window -1000 20")
     for _ in range(3):
         tracer.render(fbo, vol, VolumeView(), settings)
-    assert tracer.volume.uploaded_voxels - before == vol.data.shape[0] * vol.data.shape[1] * vol.data.shape[2]
-    np.testing.assert_array_equal(tracer.volume.read(), vol.data)
-    assert not tracer.distance.stale  # rebuilt exactly for the new alpha, not clamped
-    np.testing.assert_array_equal(tracer.distance.field == 0, vol.data[..., 3] > 0)
+    assert tracer.scalars.uploaded_voxels == uploaded  # the colour table alone goes up
+    assert tracer.volume.texture is None and tracer.distance.texture is None and tracer.volume.uploaded_voxels == 0
+    assert tracer.held_bytes() == vol.scalars.nbytes + tracer.scalars.bricks.width * tracer.scalars.bricks.height * \
+        tracer.scalars.bricks.depth * 4
     fbo.release()

@@ -80,12 +80,12 @@ def test_an_rgba_volume_has_no_curve_to_set(volume_editor):
 
 def test_a_curve_colours_nothing_again_but_shows_as_a_new_version(ct):
     voxels = volume(ct).voxels
-    version, colours, shown = voxels.version, voxels.data.copy(), ct.version()
+    version, colours, shown = voxels.version, voxels.rgba(), ct.version()
     assert ct.execute("vol.opacity 0 0 500 1")
-    assert voxels.version == version and np.array_equal(voxels.data, colours)  # nothing to upload again
+    assert voxels.version == version and np.array_equal(voxels.rgba(), colours)  # nothing to upload again
     assert ct.version() != shown  # but the view draws again
     assert ct.execute("vol.colormap magma")
-    assert voxels.version > version and not np.array_equal(voxels.data, colours)
+    assert voxels.version > version and not np.array_equal(voxels.rgba(), colours)
 
 
 def test_a_preview_shows_the_curve_without_a_step_and_the_drop_is_one(ct):

@@ -50,7 +50,7 @@ def fingerprint(volume) -> tuple[str, str, int]:
     """The scan's values as loaded (their bytes' hash), its colours, and the values' object."""
     voxels = volume.voxels
     return (hashlib.sha256(voxels.scalars.values.tobytes()).hexdigest(),
-            hashlib.sha256(voxels.data.tobytes()).hexdigest(), id(voxels.scalars.values))
+            hashlib.sha256(voxels.rgba().tobytes()).hexdigest(), id(voxels.scalars.values))
 
 
 def test_painting_filling_erasing_undo_and_redo_never_change_the_scan(volume_editor, tmp_path):

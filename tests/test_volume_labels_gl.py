@@ -12,7 +12,7 @@ from app.model.volume.scalar_modes import SCALAR_MODES
 from app.model.volume.scalars import TransferFunction
 from app.model.volume.view import VolumeView
 from app.model.volume.volume import Volume
-from app.reference.volume import render as reference
+from app.reference.volume_scan import render as reference
 from app.reference.volume_labels import LabelLayer
 from app.reference.volume_scalar import render as scalar_reference
 from app.resources import SHADERS
@@ -47,7 +47,8 @@ def gpu(gl, tracer, vol, view=VIEW, **settings) -> np.ndarray:
 def cpu(vol, mode, opacity, view=VIEW) -> np.ndarray:
     labels = vol.voxels.labels
     layer = None if labels.data is None else LabelLayer(labels.data, labels.colours, opacity)
-    return reference(vol.voxels.data, view.camera, SIZE, MODES[mode], steps=512,
+    scalars = vol.voxels.scalars
+    return reference(scalars.values, scalars.transfer, view.camera, SIZE, MODES[mode], steps=512,
                      background=np.array(view.background) / 255.0, labels=layer)
 
 
@@ -93,24 +94,33 @@ def test_the_label_opacity_lays_them_over_in_proportion_and_0_hides_them(gl, tra
 
 def test_a_scan_with_no_label_draws_as_before_labels(gl, tracer):
     vol = blob_scan()
+    hidden = gpu(gl, tracer, vol, mode=5, label_opacity=0.0)  # the labels there, but not drawn
+    assert tracer.labels.texture is not None
     while vol.voxels.labels.data is not None:
         vol.history.undo()
     no_labels = gpu(gl, tracer, vol, mode=5)
-    before = Volume(vol.voxels.data)  # the same colours as an RGBA volume: the tracer as it was
-    np.testing.assert_array_equal(no_labels, gpu(gl, tracer, before, mode=5))
+    assert tracer.labels.texture is None
+    np.testing.assert_array_equal(no_labels, hidden)
 
 
 def test_the_label_texture_uploads_the_changed_sub_box_and_follows_undo(gl, tracer):
+    """The texture holds the labels' box, padded; a stroke within it goes up alone."""
     vol = blob_scan()
     gpu(gl, tracer, vol, mode=4)
     texture = tracer.labels
-    read = lambda: np.frombuffer(texture.texture.read(), np.uint8).reshape(vol.voxels.labels.data.shape)  # noqa: E731
-    np.testing.assert_array_equal(read(), vol.voxels.labels.data)
+
+    def held() -> tuple[np.ndarray, np.ndarray]:
+        """What the texture holds, and the labels of its region."""
+        w, h, d = texture.region.shape
+        return (np.frombuffer(texture.texture.read(), np.uint8).reshape(d, h, w),
+                vol.voxels.labels.data[texture.region.slices()])
+
+    np.testing.assert_array_equal(*held())
     texture.uploaded_voxels = 0
     box = vol.paint.stroke_label("y", 4, 1, 9, [(1, 1), (5, 1)])
     gpu(gl, tracer, vol, mode=4)
     assert texture.uploaded_voxels == box.shape[0] * box.shape[1] * box.shape[2] == 5
-    np.testing.assert_array_equal(read(), vol.voxels.labels.data)
+    np.testing.assert_array_equal(*held())
     vol.set_label_colour(9, (1, 2, 3))
     gpu(gl, tracer, vol, mode=4)
     assert texture.uploaded_voxels == 5  # a colour is the table's alone
@@ -119,3 +129,24 @@ def test_the_label_texture_uploads_the_changed_sub_box_and_follows_undo(gl, trac
         vol.history.undo()
     gpu(gl, tracer, vol, mode=4)
     assert texture.texture is None  # none painted: none held on the GPU either
+
+
+def test_the_label_texture_holds_the_labels_box_and_grows_with_it(gl, tracer):
+    """Labels over part of a scan take that part of the GPU; a stroke beyond it makes the texture again, larger, and
+    the picture stays the reference's."""
+    z, y, x = np.mgrid[0:24, 0:20, 0:16]
+    vol = Volume.new(2, 2, 2)
+    vol.replace_scalars((1000 * np.exp(-((x - 8) ** 2 + (y - 10) ** 2 + (z - 12) ** 2) / 40.0)).astype(np.int16))
+    vol.paint.set_label(8, 10, 12, 3)
+    gpu(gl, tracer, vol, mode=5)
+    texture = tracer.labels
+    assert texture.bounds.shape == (1, 1, 1) and texture.region.shape == (5, 7, 7)  # 1 + 2 * ceil(side / 8)
+    small = texture.region
+    vol.paint.stroke_label("z", 20, 3, 5, [(1, 1), (14, 17)])
+    image = gpu(gl, tracer, vol, mode=5, label_opacity=0.7)
+    assert texture.region != small and texture.bounds.intersect(texture.region) == texture.bounds
+    w, h, d = texture.region.shape
+    np.testing.assert_array_equal(np.frombuffer(texture.texture.read(), np.uint8).reshape(d, h, w),
+                                  vol.voxels.labels.data[texture.region.slices()])
+    err = np.abs(image - cpu(vol, 5, 0.7)).max(-1)
+    assert np.sqrt((err ** 2).mean()) < 0.02 and np.percentile(err, 95) < 0.03

@@ -42,7 +42,7 @@ def volume(window):
 
 def test_a_drag_on_a_scan_paints_the_brush_label_as_one_recorded_command(window, scan_painter, qtbot, tmp_path):
     vol = volume(window)
-    values, colours = vol.voxels.scalars.values.copy(), vol.voxels.data.copy()
+    values, colours = vol.voxels.scalars.values.copy(), vol.voxels.rgba()
     window.run(f"record {tmp_path / 'labels'}")
     qtbot.mousePress(scan_painter, Qt.MouseButton.LeftButton, pos=at(scan_painter, 2, 3))
     qtbot.mouseMove(scan_painter, at(scan_painter, 9, 3))
@@ -54,7 +54,7 @@ def test_a_drag_on_a_scan_paints_the_brush_label_as_one_recorded_command(window,
     z, y, x = np.nonzero(vol.voxels.labels.data)
     assert set(zip(x.tolist(), y.tolist(), z.tolist())) == {(u, 3, 1) for u in range(2, 10)}
     np.testing.assert_array_equal(vol.voxels.scalars.values, values)
-    np.testing.assert_array_equal(vol.voxels.data, colours)
+    np.testing.assert_array_equal(vol.voxels.rgba(), colours)
     # the slice shows the label over the scan: half its colour over the grey, half its colour on the clear air
     image = scan_painter.image()
     red = DEFAULT_COLOURS[3].astype(float)

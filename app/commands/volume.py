@@ -211,7 +211,7 @@ def write(ctx: Ctx, path: str) -> None:
             write_volume(path, voxels.scalars.values, voxels.scalars.transfer, spacing=voxels.spacing)
             volume_labels.write_beside(voxels.labels, path)
         else:
-            write_volume(path, voxels.data, spacing=voxels.spacing)
+            write_volume(path, voxels.rgba(), spacing=voxels.spacing)  # a scan coloured whole, while it writes
     except FormatError as exc:
         raise CommandError(str(exc)) from None
 

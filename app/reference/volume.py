@@ -56,7 +56,7 @@ class Scene:
             p = (base + o).astype(np.int64)
             inside = ((p >= 0) & (p < self.size)).all(-1)
             q = np.where(inside[:, None], p, 0)
-            v = self.rgba[q[:, 2], q[:, 1], q[:, 0]]
+            v = self.texels(q)
             wa = np.where(o == 1, f, 1.0 - f).prod(-1) * v[:, 3] * inside
             total += wa[:, None] * np.concatenate([v[:, :3], np.ones((len(t), 1))], -1)
             alpha += wa * v[:, 3]
@@ -64,6 +64,10 @@ class Scene:
         with np.errstate(invalid="ignore", divide="ignore"):
             out = np.concatenate([total[:, :3] / weight, alpha[:, None] / weight], -1)
         return np.where(weight > 0, out, 0.0)
+
+    def texels(self, q: np.ndarray) -> np.ndarray:
+        """The RGBA (n, 4) of voxels q (n, 3: x, y, z), inside the volume."""
+        return self.rgba[q[:, 2], q[:, 1], q[:, 0]]
 
     @staticmethod
     def intensity(s: np.ndarray) -> np.ndarray:
@@ -179,10 +183,17 @@ def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: r
            shadow_steps: int = 20, sample_range: float = 1.0, background=(0.0, 0.0, 0.0),
            lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET,
            spacing: tuple[float, float, float] = (1.0, 1.0, 1.0), labels: LabelLayer | None = None) -> np.ndarray:
-    """The image (height, width, 3), floats 0..1, top row first; `spacing`: the voxels' sides (x, y, z); a scan's
-    `labels` laid over it."""
+    """The image (height, width, 3), floats 0..1, top row first, of RGBA `data` (d, h, w, 4); `spacing`: the voxels'
+    sides (x, y, z); a scan's `labels` laid over it."""
+    return render_scene(Scene(data, sample_range, shadow_offset, spacing), camera, size, mode, steps, shadow_steps,
+                        background, lights, labels)
+
+
+def render_scene(scene: Scene, camera: OrbitCamera, size: tuple[int, int], mode: rm.Mode, steps: float,
+                 shadow_steps: int = 20, background=(0.0, 0.0, 0.0), lights=rm.LIGHTS,
+                 labels: LabelLayer | None = None) -> np.ndarray:
+    """`render`'s image of a scene made already (an RGBA volume's, or app/reference/volume_scan.py's of a scan)."""
     w, h = size
-    scene = Scene(data, sample_range, shadow_offset, spacing)
     eye, dirs = camera_rays(camera, size)
     out = np.tile(np.asarray(background, dtype=np.float64), (len(dirs), 1))
     near, far_t = scene.box(np.broadcast_to(eye, dirs.shape), dirs)

@@ -1,6 +1,7 @@
 """A scan's labels on the GPU (app/model/volume/labels.py), read by resources/shaders/labels.shl: an integer 3D
 texture kept in step by sub-box uploads, the colour table, and the box that holds every label (the rays walk only
-through it)."""
+through it). The texture covers that box with a margin, not the whole scan: labels painted over an organ take that
+much of the GPU, not a byte for every voxel of the scan."""
 from __future__ import annotations
 
 import moderngl
@@ -9,6 +10,10 @@ import numpy as np
 from app.gl.core.texture_units import TextureUnits
 from app.model.volume.labels import Labels
 from app.model.volume.voxels import Box, VolumeWatch
+
+
+MARGIN = 8  # parts of a side the texture's box reaches beyond the labels' on each side, so a stroke that grows the
+# labels a little seldom makes a new texture
 
 
 def label_bounds(data: np.ndarray) -> Box | None:
@@ -23,14 +28,28 @@ def label_bounds(data: np.ndarray) -> Box | None:
     return Box(x0, y0, z0, x1, y1, z1)
 
 
+def _padded(box: Box, size: tuple[int, int, int]) -> Box:
+    """`box` grown by a MARGINth of each side on each side, within the scan."""
+    w, h, d = size
+    mx, my, mz = (-(-n // MARGIN) for n in size)
+    return Box(max(box.x0 - mx, 0), max(box.y0 - my, 0), max(box.z0 - mz, 0), min(box.x1 + mx, w),
+               min(box.y1 + my, h), min(box.z1 + mz, d))
+
+
+def _inside(inner: Box, outer: Box) -> bool:
+    return inner.intersect(outer) == inner
+
+
 class LabelTexture:
     """Mirrors a scan's labels: R8UI (texelFetch, so nearest and exact), each label's colour in a 256 x 1 texture.
     `bounds` holds every label: exact after a whole upload, then grown by each changed box (an erased label
-    leaves it as it was, which only costs a few empty steps)."""
+    leaves it as it was, which only costs a few empty steps). The texture holds the labels of `region`, which holds
+    `bounds`: a change beyond it makes the texture again over the grown bounds, padded."""
 
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.texture: moderngl.Texture3D | None = None
+        self.region: Box | None = None  # the voxels the texture holds
         self.colours = ctx.texture((256, 1), 4)
         self.colours.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.watch = VolumeWatch()
@@ -44,22 +63,16 @@ class LabelTexture:
             self._drop()
             self.watch = VolumeWatch()
             return False
-        if self.texture is None or self.texture.size != labels.size:
-            self._drop()
-            self.texture = self.ctx.texture3d(labels.size, 1, dtype="u1")
-            self.texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # an integer texture takes no other
-            self.watch = VolumeWatch()  # a new texture takes every label
         box = self.watch.changes(labels)
         if box == labels.full_box():  # new labels (or turned): all of them, and their exact bounds
-            self.texture.write(labels.data)
             self.bounds = label_bounds(labels.data)
-            self.uploaded_voxels += labels.data.size
+            self._make(labels)
         elif box is not None:
-            w, h, d = box.shape
-            self.texture.write(np.ascontiguousarray(labels.data[box.slices()]), viewport=(box.x0, box.y0, box.z0,
-                                                                                          w, h, d))
             self.bounds = box if self.bounds is None else self.bounds.union(box)
-            self.uploaded_voxels += w * h * d
+            if self.region is None or not _inside(self.bounds, self.region):
+                self._make(labels)
+            else:
+                self._write(labels, box)
         key = (id(labels), labels.colour_version)
         if key != self._colour_key:
             table = np.full((256, 4), 255, np.uint8)
@@ -68,18 +81,42 @@ class LabelTexture:
             self._colour_key = key
         return self.bounds is not None
 
+    def _make(self, labels: Labels) -> None:
+        """A texture over the bounds, padded (none while every label is clear), holding their labels."""
+        self._drop_texture()
+        if self.bounds is None:
+            return
+        self.region = _padded(self.bounds, labels.size)
+        self.texture = self.ctx.texture3d(self.region.shape, 1, dtype="u1")
+        self.texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # an integer texture takes no other
+        self._write(labels, self.region)
+
+    def _write(self, labels: Labels, box: Box) -> None:
+        """Upload the labels of `box`, which lies within the region."""
+        r = self.region
+        w, h, d = box.shape
+        self.texture.write(np.ascontiguousarray(labels.data[box.slices()]),
+                           viewport=(box.x0 - r.x0, box.y0 - r.y0, box.z0 - r.z0, w, h, d))
+        self.uploaded_voxels += w * h * d
+
     def uniforms(self, labels: Labels | None, opacity: float, units: TextureUnits) -> dict:
         """The labels' uniforms for labels.shl, their textures bound at their units (while drawn)."""
         drawn = self.sync(labels) and opacity > 0.0
         values = units.bind(u_labels=self.texture, u_label_colours=self.colours) if drawn else \
             units.uniforms("u_labels", "u_label_colours")  # unread: their own units all the same
         box = self.bounds if drawn else Box(0, 0, 0, 0, 0, 0)
+        origin = self.region if drawn else box
         values.update(u_labels_on=int(drawn), u_label_opacity=float(opacity),
+                      u_label_origin=(origin.x0, origin.y0, origin.z0),
                       u_label_lo=(float(box.x0), float(box.y0), float(box.z0)),
                       u_label_hi=(float(box.x1), float(box.y1), float(box.z1)))
         return values
 
     def _drop(self) -> None:
+        self._drop_texture()
+        self.bounds = None
+
+    def _drop_texture(self) -> None:
         if self.texture is not None:
             self.texture.release()
-        self.texture, self.bounds = None, None
+        self.texture, self.region = None, None

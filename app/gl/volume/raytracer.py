@@ -1,5 +1,7 @@
 """The volume ray tracer: every Tex3Dtrace mode (app/model/volume/render_modes.py), one pass or two, and a scalar
-volume's modes (app/model/volume/scalar_modes.py), one pass."""
+volume's modes (app/model/volume/scalar_modes.py), one pass. An RGBA volume is drawn from its RGBA texture; a scan,
+in every mode, from its values' texture (the F-modes look the colours up in the shader: no RGBA copy of a scan is
+held on the GPU, nor its distance field: its bricks skip the clear space)."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -13,7 +15,7 @@ from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.gl.volume.label_texture import LabelTexture
 from app.gl.volume.scalar_texture import ScalarTexture
-from app.gl.volume.texture import VolumeTexture
+from app.gl.volume.texture import VolumeTexture, texture3d_bytes
 from app.model.volume.voxels import VolumeWatch, Voxels
 from app.model.volume import render_modes as rm
 from app.model.volume.render_modes import TraceSettings
@@ -32,6 +34,7 @@ FACES = np.array([0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3,
 EDGES = np.array([0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7], dtype="i4")
 WIREFRAME = (0.85, 0.87, 0.92, 1.0)
 LEFT_EYE, RIGHT_EYE, ALL = (True, False, False, True), (False, True, True, True), (True, True, True, True)
+SCALAR_MODES_ONLY = ("u_opacity", "u_opacity_span", "u_opacity_entries", "u_clear_below")  # not in the two-pass
 
 
 class DistanceTexture:
@@ -56,6 +59,12 @@ class DistanceTexture:
         elif box is not None:
             self._clamp(box)
         return self.texture
+
+    def release(self) -> None:
+        """Hold no field (a scan is shown: its bricks skip instead); the next sync builds it again."""
+        if self.texture is not None:
+            self.texture.release()
+        self.texture, self.field, self.watch, self.stale = None, None, VolumeWatch(), False
 
     def refine(self) -> bool:
         """The exact field again after clamped edits; True if anything was done."""
@@ -146,8 +155,16 @@ class RayTracer:
         fbo.use()
         self._edges.get(program).render(moderngl.LINES)
 
+    def held_bytes(self) -> int:
+        """What the volume's 3D textures hold on the GPU: the RGBA volume and its distance field, or a scan's values
+        and bricks; and the labels."""
+        textures = (self.volume.texture, self.distance.texture, self.scalars.values, self.scalars.bricks,
+                    self.labels.texture)
+        return sum(texture3d_bytes(t) for t in textures if t is not None)
+
     def _render(self, fbo: moderngl.Framebuffer, voxels, view: VolumeView, cam, settings: TraceSettings) -> None:
-        scalar = settings.scalar_mode != "colour" and voxels.scalars is not None  # else the F-mode's colours
+        scan = voxels.scalars is not None
+        scalar = scan and settings.scalar_mode != "colour"  # else the F-mode's colours
         mode = rm.MODES[5 if scalar else settings.mode]  # iso is lit as F5
         w, h = fbo.size
         view_proj = cam.clip_from_world((w, h))
@@ -155,21 +172,17 @@ class RayTracer:
         uniforms = self._uniforms(voxels, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
         uniforms.update(self.labels.uniforms(voxels.labels, settings.label_opacity, self.units))
+        uniforms.update(self._scan(voxels) if scan else self._colours(voxels, mode))
         if scalar:
-            self._render_scalars(fbo, voxels, settings, uniforms, view_proj)
+            self._render_scalars(fbo, settings, uniforms, view_proj)
             return
-        # one volume at two units, read through two samplers
-        uniforms.update(self.units.bind(u_volume=self.volume.sync(voxels), u_nearest=self.volume.texture),
-                        u_distance=self.units["u_distance"], u_scalars=self.units["u_scalars"], u_field=0)
-        self.units.bind(u_volume=self.linear, u_nearest=self.nearest)
-        if mode.distance:
-            self.units.bind(u_distance=self.distance.sync(voxels))
+        uniforms.update(u_field=0)
         background = tuple(c / 255 for c in view.background)
         if mode.two_pass:
             entry = self._entry_pass((w, h), view_proj, extent)
             program = self.shaders.program("raytrace2")
             uniforms.update(self.units.bind(u_entry=entry), u_view_proj=gl_matrix(view_proj))
-            set_uniforms(program, uniforms)
+            set_uniforms(program, uniforms, optional=SCALAR_MODES_ONLY)
             fbo.use()
             fbo.clear(*background, 1.0)  # within the colour mask: a stereo pair's first eye stays
             self.ctx.enable(moderngl.CULL_FACE)
@@ -180,29 +193,50 @@ class RayTracer:
         else:
             program = self.shaders.program("raytrace")
             uniforms.update(u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)), u_scalar_mode=0)
-            uniforms.update(self.units.uniforms("u_colormap", "u_opacity", "u_bricks"))  # unread: their own units
             set_uniforms(program, uniforms)
             fbo.use()
             self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
         self.linear.clear(self.units["u_volume"])
         self.nearest.clear(self.units["u_nearest"])
 
-    def _render_scalars(self, fbo: moderngl.Framebuffer, voxels, settings: TraceSettings, uniforms: dict,
-                        view_proj: np.ndarray) -> None:
-        """The one-pass tracer on the values; the RGBA texture is left as it is (synced when colour shows again)."""
+    def _colours(self, voxels, mode: rm.Mode) -> dict:
+        """An RGBA volume's textures at their units: one volume at two, read through two samplers (the linear one's
+        border transparent), and its distance field where the mode skips; a scan's textures go."""
+        self.scalars.release()
+        values = self.units.bind(u_volume=self.volume.sync(voxels), u_nearest=self.volume.texture)
+        self.units.bind(u_volume=self.linear, u_nearest=self.nearest)
+        if mode.distance:
+            self.units.bind(u_distance=self.distance.sync(voxels))
+        values.update(self.units.uniforms("u_distance", "u_scalars", "u_colormap", "u_opacity", "u_bricks"), u_scan=0)
+        return values  # the samplers whose textures are unread still get their own units
+
+    def _scan(self, voxels) -> dict:
+        """A scan's textures at their units, for every mode: its values (clamped to the edge; at u_nearest too,
+        through the nearest sampler), the colour map, the opacity curve and the bricks; an RGBA volume's go."""
+        self.volume.release()
+        self.distance.release()
         scalars = voxels.scalars
         self.scalars.sync(scalars)
-        uniforms.update(self.scalars.uniforms(scalars.transfer), u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)),
+        values = self.scalars.uniforms(scalars.transfer)
+        values.update(self.units.bind(u_scalars=self.scalars.values, u_nearest=self.scalars.values,
+                                      u_colormap=self.scalars.colours, u_opacity=self.scalars.opacity,
+                                      u_bricks=self.scalars.bricks), u_scan=1)
+        self.units.bind(u_nearest=self.nearest)
+        values.update(self.units.uniforms("u_volume", "u_distance"))  # unread: their own units
+        return values
+
+    def _render_scalars(self, fbo: moderngl.Framebuffer, settings: TraceSettings, uniforms: dict,
+                        view_proj: np.ndarray) -> None:
+        """The one-pass tracer on the values, in a scalar mode."""
+        uniforms.update(u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)),
                         u_scalar_mode=mode_number(settings.scalar_mode), u_iso=float(settings.iso),
                         u_field=int(settings.scalar_mode == ISO_MODE),
                         u_mip_attenuation=float(settings.mip_attenuation))
-        uniforms.update(self.units.bind(u_scalars=self.scalars.values, u_colormap=self.scalars.colours,
-                                        u_opacity=self.scalars.opacity, u_bricks=self.scalars.bricks))
-        uniforms.update(self.units.uniforms("u_volume", "u_nearest", "u_distance"))  # unread: their own units
         program = self.shaders.program("raytrace")
         set_uniforms(program, uniforms)
         fbo.use()
         self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
+        self.nearest.clear(self.units["u_nearest"])
 
     def _entry_pass(self, size, view_proj: np.ndarray, extent: np.ndarray) -> moderngl.Texture:
         if self._entry is None or self._entry[0] != size:

@@ -7,7 +7,8 @@ formats read negative values as 0 on Mesa), so a 512x512x300 int16 CT takes its 
 that; the other types go up as float32 (int32 and uint32 beyond 2^24 lose their last digits; NaN and infinities as
 scalar_modes.drawable says). Each is converted a slab at a time. The values are
 read-only in the model and never change in place (labels are painted over them; a rotation or load makes new ones): a
-new array is uploaded whole, once; a window change uploads the 256 colours alone."""
+new array is uploaded whole, once; a window change uploads the 256 colours alone. It is all a scan holds on the GPU:
+the F-modes too read it and look its colours up in the table (resources/shaders/scan_colour.shl)."""
 from __future__ import annotations
 
 import moderngl
@@ -43,6 +44,13 @@ class ScalarTexture:
         if scalars.values is not self._source:
             self._upload(scalars.values)
         self._sync_transfer(scalars.transfer)
+
+    def release(self) -> None:
+        """Hold no values (an RGBA volume is shown); the next sync uploads them again."""
+        if self.values is not None:
+            self.values.release()
+            self.bricks.release()
+        self.values, self.bricks, self._source = None, None, None
 
     def uniforms(self, transfer: TransferFunction) -> dict:
         return {"u_value_scale": self.scale, "u_value_offset": self.offset, "u_window": (transfer.low, transfer.high),

@@ -1,10 +1,18 @@
-"""The volume's 3D texture, kept in step with the model by sub-box uploads."""
+"""An RGBA volume's 3D texture, kept in step with the model by sub-box uploads (a scan has none: its values' texture
+is app/gl/volume/scalar_texture.py's)."""
 from __future__ import annotations
 
 import moderngl
 import numpy as np
 
 from app.model.volume.voxels import VolumeWatch, Voxels
+
+_ITEM_BYTES = {"f1": 1, "u1": 1, "i1": 1, "nu1": 1, "f2": 2, "u2": 2, "i2": 2, "nu2": 2, "f4": 4, "u4": 4, "i4": 4}
+
+
+def texture3d_bytes(texture: moderngl.Texture3D) -> int:
+    """What a 3D texture holds: its texels times their components and bytes (no mipmaps are made here)."""
+    return texture.width * texture.height * texture.depth * texture.components * _ITEM_BYTES[texture.dtype]
 
 
 class VolumeTexture:
@@ -31,6 +39,12 @@ class VolumeTexture:
             self.texture.write(part, viewport=(box.x0, box.y0, box.z0, w, h, d))
             self.uploaded_voxels += w * h * d
         return self.texture
+
+    def release(self) -> None:
+        """Hold no texture (a scan is shown); the next sync uploads the volume whole."""
+        if self.texture is not None:
+            self.texture.release()
+        self.texture, self.watch = None, VolumeWatch()
 
     def write_all(self, voxels: Voxels) -> None:
         """Re-upload every voxel (the paint bench's baseline against sync's sub-box)."""

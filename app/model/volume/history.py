@@ -60,8 +60,8 @@ class Turn:
 
 @dataclass
 class Swap:
-    other: np.ndarray  # the whole image not currently shown
-    scalars: Scalars | None  # and its scalars
+    other: np.ndarray | None  # the whole RGBA image not currently shown (None: a scan)
+    scalars: Scalars | None  # or its scalars
     nbytes: int  # what the replaced image held: fixed, as undo and redo swap images of other sizes in and out
     serial: int = 0
     name: str = ""
@@ -72,7 +72,8 @@ class Swap:
     def of(cls, voxels: Voxels, name: str) -> Swap:
         """The step that brings back what `voxels` show now."""
         data, scalars, labels = voxels.data, voxels.scalars, voxels.labels
-        held = data.nbytes + (scalars.nbytes if scalars else 0) + (labels.nbytes if labels else 0)
+        held = (data.nbytes if data is not None else 0) + (scalars.nbytes if scalars else 0) + \
+            (labels.nbytes if labels else 0)
         return cls(data, scalars, held, name=name, labels=labels, spacing=voxels.spacing)
 
     def apply(self, voxels: Voxels, undo: bool) -> None:
@@ -94,7 +95,7 @@ class Respace:
 @dataclass
 class Window:
     transfer: TransferFunction  # the scalars' transfer function not currently shown
-    nbytes: int = 0  # the colours are made again from the scalars
+    nbytes: int = 0  # the colours are the scalars' through it
     serial: int = 0
     name: str = "Set Window"
 

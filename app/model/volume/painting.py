@@ -215,7 +215,8 @@ class Painting:
         `tolerance` (0..255) of the colour at (u, v); 0: exactly that colour."""
         self.history.clear_preview()
         self.voxels.require_colours()
-        plane, similar, u, v = self._similar(axis, index, u, v, tolerance)
+        similar, u, v = self._similar(axis, index, u, v, tolerance)
+        plane = self.voxels.plane(axis, index)
         painted = self._paint_plane(self.voxels, axis, index, plane, _connected(similar, u, v), _colour(rgba), 0, 0)
         return None if painted is None else self.history.record(*painted, "Fill")
 
@@ -225,7 +226,7 @@ class Painting:
         (0: exactly that colour; 255: the labels alone bound it). The scan is read, never written."""
         self.history.clear_preview()
         label = check_label(label)
-        _plane, similar, u, v = self._similar(axis, index, u, v, tolerance)
+        similar, u, v = self._similar(axis, index, u, v, tolerance)
 
         def paint(labels: Labels) -> tuple[Box, np.ndarray] | None:
             plane = labels.plane(axis, index)
@@ -279,8 +280,9 @@ class Painting:
 
     def _plane(self, layer: Voxels | Labels, axis: str, index: int) -> np.ndarray:
         """The writable slice of the colours or of the allocated labels; the axis and index checked."""
-        plane = self.voxels.plane(axis, index)
-        return plane if layer is self.voxels else layer.plane(axis, whole("slice index", index))
+        if layer is self.voxels:
+            return self.voxels.plane(axis, index)
+        return layer.plane(axis, self.voxels.slice_number(axis, index))
 
     def _set(self, layer: Voxels | Labels, x: int, y: int, z: int, value: np.ndarray) -> tuple[Box, np.ndarray] | None:
         """Set one voxel's colour or label: (its box, what it held), None if it held that."""
@@ -293,9 +295,10 @@ class Painting:
         return box, before
 
     def _similar(self, axis: str, index: int, u: int, v: int,
-                 tolerance: int) -> tuple[np.ndarray, np.ndarray, int, int]:
-        """(the slice's colours, where every channel is within `tolerance` of (u, v)'s, u, v), checked."""
-        plane = self.voxels.plane(axis, index)
+                 tolerance: int) -> tuple[np.ndarray, int, int]:
+        """(where every channel of the slice's colours is within `tolerance` of (u, v)'s, u, v), checked; a scan's
+        slice coloured from its values."""
+        plane = self.voxels.slice(axis, index)
         u, v, tolerance = whole("u", u), whole("v", v), whole("fill tolerance", tolerance)
         vs, us = plane.shape[:2]
         if not (0 <= u < us and 0 <= v < vs):
@@ -307,7 +310,7 @@ class Painting:
         for c in range(4):  # a channel at a time, compared in the voxels' own uint8
             lo, hi = max(seed[c] - tolerance, 0), min(seed[c] + tolerance, 255)
             similar &= (plane[..., c] >= lo) & (plane[..., c] <= hi)
-        return plane, similar, u, v
+        return similar, u, v
 
     def _stroke(self, layer: Voxels | Labels, axis: str, index: int, size: int, value: np.ndarray,
                 points: list[tuple[int, int]], round_brush: bool) -> tuple[Box, np.ndarray] | None:

@@ -23,7 +23,7 @@ def first_hit(voxels: Voxels, origin: np.ndarray, direction: np.ndarray) -> tupl
     steps = int(np.ceil(np.linalg.norm(to_index(t_far) - to_index(t_near)) * 2)) + 1  # half-voxel steps
     ts = np.linspace(t_near, t_far, steps)
     idx = np.clip(np.floor(to_index(ts[:, None])).astype(int), 0, size - 1)
-    alpha = voxels.data[idx[:, 2], idx[:, 1], idx[:, 0], 3]
+    alpha = voxels.rgba((idx[:, 2], idx[:, 1], idx[:, 0]))[:, 3]  # a scan's: its values there coloured
     hit = np.flatnonzero(alpha > 0)
     x, y, z = idx[hit[0] if hit.size else 0]
     return int(x), int(y), int(z)

@@ -1,11 +1,13 @@
 """Scalar volumes (16-bit and float CT, MRI, microscopy...): the values as loaded and the transfer function that
-colours them into the RGBA volume.
+colours them.
 
 The transfer function is a window (low, high) and a colour map: a value's place in the window, t = (v - low) /
 (high - low) clamped to 0..1, picks the colour from the map and the alpha from t itself, so values at or below
-`low` are transparent and the colours grow opaque towards `high`. t is quantised to 256 levels (the RGBA
-volume's own resolution) and looked up in a 256-entry table, in slabs of CHUNK voxels, so colouring a volume
-holds the RGBA volume and about 4 MiB of temporaries (5 MiB for 32-bit integers and doubles; tracemalloc's peak
+`low` are transparent and the colours grow opaque towards `high`. The model never holds a scan's colours whole:
+what reads them (a slice in the painter, a picked voxel, a fill's comparison, a save to a colour format) colours
+the values it reads (`Scalars.coloured`), and the GPU looks the colour up in the shader. Here t is quantised to 256
+levels (an RGBA voxel's own resolution) and looked up in a 256-entry table, in slabs of CHUNK voxels, so colouring
+holds the colours made and about 4 MiB of temporaries (5 MiB for 32-bit integers and doubles; tracemalloc's peak
 while colouring 128^3 voxels). NaN values are transparent; -inf and +inf clamp.
 
 The opacity curve (points in data units) is the translucent render mode's alone: it changes no colour, so setting
@@ -154,6 +156,13 @@ class Scalars:
     def nbytes(self) -> int:
         return self.values.nbytes
 
+    def coloured(self, index=...) -> np.ndarray:
+        """The colours (..., 4) uint8 of the values at a (z, y, x) index (slices, arrays; all by default), new."""
+        part = np.asarray(self.values[index])
+        out = np.empty(part.shape + (4,), np.uint8)
+        colour(part, self.transfer, out)
+        return out
+
 
 @lru_cache(maxsize=None)
 def _table(name: str) -> np.ndarray:
@@ -237,7 +246,8 @@ def value_histogram(values: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarr
 
 
 def colour(values: np.ndarray, transfer: TransferFunction, out: np.ndarray) -> None:
-    """Write the colours of `values` (d, h, w) into `out` (d, h, w, 4) uint8, C-contiguous, in place."""
+    """Write the colours of `values` (any shape: a volume, a slice, picked voxels) into `out` (that shape, 4) uint8,
+    C-contiguous, in place."""
     if out.shape != values.shape + (4,) or out.dtype != np.uint8 or not out.flags.c_contiguous:
         raise ScalarError(f"cannot colour {values.shape} scalars into a {out.dtype} array of shape {out.shape}")
     table = transfer.table()

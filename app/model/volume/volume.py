@@ -8,7 +8,7 @@ from app.model.volume.history import (UNDO_BYTES, UNDO_STEPS, LabelColour, Respa
                                      Window)
 from app.model.volume.labels import LABEL_BYTES, Labels, check_label, check_rgb
 from app.model.volume.painting import Painting
-from app.model.volume.scalars import Scalars, TransferFunction, check_values, colour, default_window, own_values
+from app.model.volume.scalars import Scalars, TransferFunction, check_values, default_window, own_values
 from app.model.volume.voxels import (DEFAULT_SPACING, Spacing, VolumeError, Voxels, check_axis, check_size,
                                      check_spacing, own_rgba, transparent, whole)
 
@@ -17,8 +17,8 @@ class Volume:
     """`voxels` (what renderers and views read), their `history` (undo, redo) and their `paint` (strokes, fills,
     smoothing), made together: the history and the painting act on these voxels.
 
-    A volume loaded from scalars (`replace_scalars`) keeps them in `voxels.scalars`: its voxels are their colours
-    through the transfer function, made again whenever that changes (`set_transfer`). Such a scan is painted in
+    A volume loaded from scalars (`replace_scalars`) keeps them in `voxels.scalars`, and no colours: its voxels are
+    their colours through the transfer function (`set_transfer`), made where they are read. Such a scan is painted in
     labels (`voxels.labels`), never in colours: its values stay as loaded. Rotations turn the scalars and labels
     with the voxels."""
 
@@ -58,7 +58,8 @@ class Volume:
         `transfer` (by default the window from the values' percentiles, grey), with `labels` painted over it (a
         labels file's, of the same size; by default none yet). The size, labels included, is checked before
         anything is allocated; the values are copied, unless `copy` is False: then the volume keeps `values`
-        itself (made read-only), which its caller hands over (a reader's fresh array, not a second copy of it)."""
+        itself (made read-only), which its caller hands over (a reader's fresh array, not a second copy of it), and
+        nothing more than the labels when painted."""
         self.history.clear_preview()
         spacing = check_spacing(*spacing)
         d, h, w = check_values(values)
@@ -67,10 +68,8 @@ class Volume:
             raise VolumeError("the labels are {} x {} x {} voxels, the scan {} x {} x {}".format(*labels.size, w, h, d))
         values = own_values(values, copy)
         scalars = Scalars(values, transfer or TransferFunction(*default_window(values)))
-        data = np.empty(values.shape + (4,), np.uint8)
-        colour(values, scalars.transfer, data)
         self.history.push(Swap.of(self.voxels, name))
-        self.voxels.swap(data, scalars, spacing)
+        self.voxels.swap(None, scalars, spacing)
         self.voxels.labels = labels or Labels((w, h, d))
 
     def set_spacing(self, spacing: Spacing) -> bool:

@@ -1,6 +1,6 @@
-"""A 3D RGBA raster's voxels (and a scalar volume's values under them, and the labels painted over those): read by
-voxel, slice or box, written by the volume's painting and history, with a record of the boxes changed for consumers
-such as GPU uploads."""
+"""A 3D RGBA raster's voxels (or a scalar volume's values, coloured where they are read, and the labels painted over
+those): read by voxel, slice or box, written by the volume's painting and history, with a record of the boxes changed
+for consumers such as GPU uploads."""
 from __future__ import annotations
 
 import hashlib
@@ -14,7 +14,7 @@ from itertools import islice
 
 import numpy as np
 
-from app.model.volume.scalars import Scalars, TransferFunction, colour
+from app.model.volume.scalars import Scalars, TransferFunction
 
 AXES = ("x", "y", "z")
 MAX_SIDE = 4096          # voxels a side; also the largest brush
@@ -86,12 +86,13 @@ def _fmt_bytes(n: int) -> str:
 
 
 def check_size(w: int, h: int, d: int, scalar_bytes: int = 0) -> None:
-    """scalar_bytes: what a scalar volume keeps a voxel beside its colours (its value, and room for a label)."""
+    """scalar_bytes: what a scalar volume keeps a voxel instead of a colour (its value, and room for a label); 0: an
+    RGBA volume's 4 bytes."""
     if min(w, h, d) < 1 or max(w, h, d) > MAX_SIDE:
         raise VolumeError(f"volume sides must be within 1..{MAX_SIDE}, got {w} x {h} x {d}")
-    need = w * h * d * (4 + scalar_bytes)
+    need = w * h * d * (scalar_bytes or 4)
     if need > MAX_BYTES:
-        what = "RGBA data, scalars and labels" if scalar_bytes else "RGBA data"
+        what = "scalars and labels" if scalar_bytes else "RGBA data"
         raise VolumeError(f"a {w} x {h} x {d} volume needs {_fmt_bytes(need)} of {what},"
                           f" over the {_fmt_bytes(MAX_BYTES)} limit")
 
@@ -168,28 +169,37 @@ class ChangeRecord:
 
 
 class Voxels(ChangeRecord):
-    """The RGBA voxels (`data`, indexed z, y, x) and, for a volume loaded from scalars, those `scalars`: the voxels
-    are their colours through its transfer function; a scalar volume's `labels` (app/model/volume/labels.py),
-    painted over the scan with a change record of their own; the `spacing` of the voxels (x, y, z), which the box's
-    shape follows. `version` counts changes of `data`; `changed_since` says where.
+    """The RGBA voxels (`data`, indexed z, y, x), or for a volume loaded from scalars, those `scalars` (and `data`
+    None): its voxels are their colours through its transfer function, made where they are read (`rgba`, `slice`,
+    `pick`), never held whole (a 16-bit scan would hold twice its size again); a scalar volume's `labels`
+    (app/model/volume/labels.py), painted over the scan with a change record of their own; the `spacing` of the
+    voxels (x, y, z), which the box's shape follows. `version` counts changes of the colours; `changed_since` says
+    where.
 
     Whoever writes `data` (the painting, the history) marks the box with `changed`; the other writes here do."""
 
     def __init__(self, data: np.ndarray) -> None:
         super().__init__()
-        self.data = own_rgba(data)
+        self.data: np.ndarray | None = own_rgba(data)
         self.scalars: Scalars | None = None
         self.labels = None  # a scalar volume's Labels (app/model/volume/labels.py), even before any is painted
         self.spacing = DEFAULT_SPACING
 
     @property
     def size(self) -> tuple[int, int, int]:
-        d, h, w, _ = self.data.shape
+        d, h, w = (self.data if self.scalars is None else self.scalars.values).shape[:3]
         return w, h, d
 
     def full_box(self) -> Box:
         w, h, d = self.size
         return Box(0, 0, 0, w, h, d)
+
+    @property
+    def nbytes(self) -> int:
+        """What the voxels hold: an RGBA volume's colours, or a scan's values and its labels once painted."""
+        if self.scalars is None:
+            return self.data.nbytes
+        return self.scalars.nbytes + self.labels.nbytes
 
     # --- reading --------------------------------------------------------------------------------
 
@@ -203,23 +213,30 @@ class Voxels(ChangeRecord):
         return {"z": (sx, sy), "y": (sx, sz), "x": (sy, sz)}[check_axis(axis)]
 
     def depth(self, axis: str) -> int:
-        return self.data.shape[_ARRAY_AXIS[check_axis(axis)]]
+        return self.size[::-1][_ARRAY_AXIS[check_axis(axis)]]
+
+    def rgba(self, index=...) -> np.ndarray:
+        """The colours (..., 4) uint8 of the voxels at a (z, y, x) index (slices, arrays; all by default): a view of
+        an RGBA volume's (copy it to keep it past the next edit), a scan's coloured from its values there."""
+        if self.scalars is None:
+            return self.data[index]
+        return self.scalars.coloured(index)
 
     def slice(self, axis: str, index: int) -> np.ndarray:
-        """(v, u, 4) read-only view; copy it to keep it past the next edit."""
-        view = self.plane(axis, index).view()
+        """(v, u, 4) read-only colours of a slice; copy them to keep them past the next edit."""
+        view = self.rgba(self.slice_index(axis, index))
         view.flags.writeable = False
         return view
 
     def voxel_of(self, axis: str, index: int, u: int, v: int) -> tuple[int, int, int]:
-        index, u, v = self._index(axis, index), whole("u", u), whole("v", v)
+        index, u, v = self.slice_number(axis, index), whole("u", u), whole("v", v)
         us, vs = self.slice_size(axis)
         if not (0 <= u < us and 0 <= v < vs):
             raise VolumeError(f"({u}, {v}) is outside the {us} x {vs} slice")
         return {"z": (u, v, index), "y": (u, index, v), "x": (index, u, v)}[axis]
 
     def pick(self, x: int, y: int, z: int) -> tuple[int, int, int, int]:
-        return tuple(int(c) for c in self.data[self.array_index(x, y, z)])
+        return tuple(int(c) for c in self.rgba(self.array_index(x, y, z)))
 
     def scalar_at(self, x: int, y: int, z: int) -> float | None:
         """The loaded value under a voxel's colour, for a scalar volume; None for an RGBA one."""
@@ -272,14 +289,19 @@ class Voxels(ChangeRecord):
             raise VolumeError(f"voxel ({x}, {y}, {z}) is outside the {w} x {h} x {d} volume")
         return z, y, x
 
+    def slice_index(self, axis: str, index: int) -> tuple:
+        """The (z, y, x) index of a slice of the voxels, the axis and index checked."""
+        return (slice(None),) * _ARRAY_AXIS[check_axis(axis)] + (self.slice_number(axis, index),)
+
     def plane(self, axis: str, index: int) -> np.ndarray:
-        """The writable (v, u, 4) view of a slice."""
-        index = self._index(axis, index)
-        return self.data[(slice(None),) * _ARRAY_AXIS[axis] + (index,)]
+        """The writable (v, u, 4) view of a slice of an RGBA volume's colours."""
+        self.require_colours()
+        return self.data[self.slice_index(axis, index)]
 
     def turn(self, axis: str, turns: int) -> None:
         """Quarter turns about an axis, the scalars, labels and spacing with the voxels."""
-        self.data = np.ascontiguousarray(np.rot90(self.data, turns, axes=_ROT90_AXES[axis]))
+        if self.data is not None:
+            self.data = np.ascontiguousarray(np.rot90(self.data, turns, axes=_ROT90_AXES[axis]))
         if turns % 2:  # the two axes across the turning one trade places
             sx, sy, sz = self.spacing
             self.spacing = {"x": (sx, sz, sy), "y": (sz, sy, sx), "z": (sy, sx, sz)}[axis]
@@ -291,9 +313,10 @@ class Voxels(ChangeRecord):
             self.labels.turn(_ROT90_AXES[axis], turns)
         self.changed(None)
 
-    def swap(self, data: np.ndarray, scalars: Scalars | None,
-             spacing: Spacing = DEFAULT_SPACING) -> tuple[np.ndarray, Scalars | None, Spacing]:
-        """Show another whole image (checked by the caller); returns the one shown before."""
+    def swap(self, data: np.ndarray | None, scalars: Scalars | None,
+             spacing: Spacing = DEFAULT_SPACING) -> tuple[np.ndarray | None, Scalars | None, Spacing]:
+        """Show another whole image (checked by the caller): RGBA `data`, or None and a scan's `scalars`; returns the
+        one shown before."""
         shown = self.data, self.scalars, self.spacing
         self.data, self.scalars, self.spacing = data, scalars, spacing
         self.changed(None)
@@ -306,15 +329,15 @@ class Voxels(ChangeRecord):
         return shown
 
     def recolour(self, transfer: TransferFunction) -> None:
-        """Every voxel again from the scalars: the texture uploads the volume once. A transfer function that differs
-        in its opacity curve alone colours nothing again: no voxel changes, so `version` stays."""
+        """Colour the scalars through another transfer function: every voxel's colour changes (nothing is coloured
+        now; readers colour what they read). One that differs in its opacity curve alone changes no colour, so
+        `version` stays."""
         same = self.scalars.transfer.same_colours(transfer)
         self.scalars = Scalars(self.scalars.values, transfer)
         if not same:
-            colour(self.scalars.values, transfer, self.data)
             self.changed(self.full_box())
 
-    def _index(self, axis: str, index: int) -> int:
+    def slice_number(self, axis: str, index: int) -> int:
         n = self.depth(axis)
         index = whole("slice index", index)
         if not 0 <= index < n:
