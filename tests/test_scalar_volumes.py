@@ -217,10 +217,10 @@ def test_malformed_scalar_files_are_refused_and_change_nothing(volume_editor, tm
 def test_a_scalar_volume_over_the_memory_limit_is_refused_before_reading(volume_editor, tmp_path, monkeypatch):
     values = phantom("float64")
     WRITERS["nrrd"](tmp_path / "big.nrrd", values)
-    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12 - 1)  # the reader counts 4 bytes of colours too
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 9 - 1)  # the values and a label byte a voxel
     before = volume(volume_editor).voxels.digest()
     assert not volume_editor.execute("load big.nrrd")
-    assert "its scalars and their colours" in errors(volume_editor)[-1]
+    assert "its values and a label byte a voxel" in errors(volume_editor)[-1]
     assert volume(volume_editor).voxels.digest() == before
     monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 9 - 1)  # the model holds values and labels alone
     with pytest.raises(voxels_model.VolumeError, match="scalars and labels"):

@@ -277,11 +277,11 @@ def test_scalars_are_not_written_to_colour_formats(tmp_path, name):
     assert not list(tmp_path.iterdir())
 
 
-def test_the_size_limit_counts_the_scalars_and_their_colours(tmp_path):
+def test_the_size_limit_counts_the_values_and_a_label_byte(tmp_path):
     save_nrrd(tmp_path / "v.nrrd", scalar_array("float64"))
     voxels = math.prod(SHAPE)
-    refused(tmp_path / "v.nrrd", "its scalars and their colours", str(voxels * 12), max_bytes=voxels * 12 - 1)
-    assert read_volume(tmp_path / "v.nrrd", max_bytes=voxels * 12).shape == SHAPE
+    refused(tmp_path / "v.nrrd", "its values and a label byte a voxel", str(voxels * 9), max_bytes=voxels * 9 - 1)
+    assert read_volume(tmp_path / "v.nrrd", max_bytes=voxels * 9).shape == SHAPE
 
 
 # --- malformed files -------------------------------------------------------------------------------------------

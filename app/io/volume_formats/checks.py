@@ -58,16 +58,17 @@ def library_errors(path: PathLike, what: str) -> Iterator[None]:
 
 
 def check_shape(path: PathLike, shape: tuple[int, ...], max_bytes: float = math.inf, scalar_bytes: int = 0) -> None:
-    """shape is (depth, height, width); the RGBA volume it becomes, and its scalars, must fit max_bytes."""
+    """shape is (depth, height, width); the RGBA volume it becomes (4 bytes a voxel), or a scan's values and a label
+    byte a voxel (what the model holds of a scan: app/model/volume/volume.py), must fit max_bytes."""
     d, h, w = (int(n) for n in shape)
     size = f"{w}x{h}x{d}"
     if min(d, h, w) < 1:
         raise FormatError(f"{path}: volume size {size} (width x height x depth) has an empty side")
     if max(d, h, w) > MAX_SIDE:
         raise FormatError(f"{path}: volume size {size} exceeds {MAX_SIDE} voxels a side")
-    need = d * h * w * (4 + scalar_bytes)
+    need = d * h * w * (scalar_bytes + 1 if scalar_bytes else 4)
     if need > max_bytes:
-        what = " (its scalars and their colours)" if scalar_bytes else ""
+        what = " (its values and a label byte a voxel)" if scalar_bytes else ""
         raise FormatError(f"{path}: a {size} volume needs {need} bytes{what}, over the size limit of {max_bytes} bytes")
 
 
