@@ -11,6 +11,7 @@ from scipy.ndimage import distance_transform_edt
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
+from app.gl.volume.clip_box import ClipBox
 from app.gl.volume.label_texture import LabelTexture
 from app.gl.volume.scalar_texture import ScalarTexture
 from app.gl.volume.texture import VolumeTexture
@@ -110,6 +111,7 @@ class RayTracer:
         self.distance = DistanceTexture(ctx)
         self.labels = LabelTexture(ctx)  # a scan's labels, over whatever the mode draws
         self.scalars = ScalarTexture(ctx)
+        self.clip = ClipBox()  # the box of a scalar volume a mode's rays sample
         # Trilinear with a transparent border: the volume floats in empty space, so a voxel on the box's face is
         # a surface with an outward normal, as one inside is (clamped to its edge, its gradient pointed inwards
         # and the voxel shaded black). The reference samples the same way.
@@ -196,6 +198,10 @@ class RayTracer:
                         u_scalar_mode=mode_number(settings.scalar_mode), u_iso=float(settings.iso),
                         u_field=int(settings.scalar_mode == ISO_MODE),
                         u_mip_attenuation=float(settings.mip_attenuation))
+        level = {"iso": uniforms["u_iso"], "translucent": uniforms["u_clear_below"]}.get(settings.scalar_mode,
+                                                                                         scalars.transfer.low)
+        uniforms.update(self.clip.uniforms(settings.scalar_mode, self.scalars.maxima, voxels.size, level,
+                                           self.scalars.scale))
         uniforms.update(self.units.bind(u_scalars=self.scalars.values, u_colormap=self.scalars.colours,
                                         u_opacity=self.scalars.opacity, u_bricks=self.scalars.bricks))
         uniforms.update(self.units.uniforms("u_volume", "u_nearest", "u_distance"))  # unread: their own units
