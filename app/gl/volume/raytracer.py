@@ -195,7 +195,7 @@ class RayTracer:
         scalars = voxels.scalars
         self.scalars.sync(scalars)
         uniforms.update(self.scalars.uniforms(scalars.transfer), u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)),
-                        u_scalar_mode=mode_number(settings.scalar_mode), u_iso=float(settings.iso),
+                        u_iso=float(settings.iso),
                         u_field=int(settings.scalar_mode == ISO_MODE),
                         u_mip_attenuation=float(settings.mip_attenuation))
         level = {"iso": uniforms["u_iso"], "translucent": uniforms["u_clear_below"]}.get(settings.scalar_mode,
@@ -204,9 +204,10 @@ class RayTracer:
                                            self.scalars.scale))
         uniforms.update(self.units.bind(u_scalars=self.scalars.values, u_colormap=self.scalars.colours,
                                         u_opacity=self.scalars.opacity, u_bricks=self.scalars.bricks))
-        uniforms.update(self.units.uniforms("u_volume", "u_nearest", "u_distance"))  # unread: their own units
-        program = self.shaders.program("raytrace")
-        set_uniforms(program, uniforms)
+        # a program for the mode alone: llvmpipe runs every mode's code on every pixel of one for all (twice the
+        # time of a translucent frame at two voxels a step); it reads the uniforms of its mode alone
+        program = self.shaders.program("raytrace_scalar", defines={"SCALAR_MODE": mode_number(settings.scalar_mode)})
+        set_uniforms(program, uniforms, optional=uniforms.keys())
         fbo.use()
         self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
 
