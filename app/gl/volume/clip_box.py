@@ -21,7 +21,7 @@ def box_over(maxima: np.ndarray, size: tuple[int, int, int], level: float, margi
     """(lo, hi) in texture space (x, y, z) of the bricks of `maxima` (down z, y, x) whose greatest value is over
     `level` less `margin` (what the GPU's filtering and scaling may round a value at the level up by), for a volume
     of `size` (w, h, d) voxels."""
-    over = maxima > level - margin
+    over = maxima > np.float64(level - margin)  # in float64: the level may be float32's least
     if not over.any():
         return NOTHING
     lo, hi = [], []

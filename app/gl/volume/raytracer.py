@@ -204,6 +204,7 @@ class RayTracer:
                                            self.scalars.scale))
         uniforms.update(self.units.bind(u_scalars=self.scalars.values, u_colormap=self.scalars.colours,
                                         u_opacity=self.scalars.opacity, u_bricks=self.scalars.bricks))
+        uniforms.update(self.units.uniforms("u_volume", "u_nearest", "u_distance"))  # unread: their own units
         # a program for the mode alone: llvmpipe runs every mode's code on every pixel of one for all (twice the
         # time of a translucent frame at two voxels a step); it reads the uniforms of its mode alone
         program = self.shaders.program("raytrace_scalar", defines={"SCALAR_MODE": mode_number(settings.scalar_mode)})
