@@ -95,7 +95,7 @@ def test_every_sampler_reads_the_unit_its_renderer_gave_it(host):
     owners = [*host.renderers.values(), *(budget.reduced for budget in host.budgets.values())]
     units = [a for owner in owners for a in allocators(owner)]
     checked = set()
-    for (name, _varyings), entry in host.shaders._entries.items():
+    for (name, *_varyings_defines), entry in host.shaders._entries.items():
         program = entry.program
         samplers = {u: program[u].value for u in program if program[u].gl_type in SAMPLER_TYPES}
         if not samplers:

@@ -350,12 +350,20 @@ class StageSource:
         return self.lines[line - 1].origin if 1 <= line <= len(self.lines) else None
 
 
-def load_stage(path: Path, limits: GSLimits, deps: set[Path] | None = None) -> StageSource:
-    """Read, preprocess and (for geometry shaders) header-convert one stage file."""
+def load_stage(path: Path, limits: GSLimits, deps: set[Path] | None = None,
+               defines: tuple[tuple[str, str], ...] = ()) -> StageSource:
+    """Read, preprocess and (for geometry shaders) header-convert one stage file; `defines` (name, value) become
+    `#define` lines after its `#version` (a program specialised at compile time)."""
     path = Path(path)
     stage = stage_from_path(path)
     _track(deps, path)
     lines = preprocess(path, deps)
+    if defines:
+        at = next((i for i, line in enumerate(lines) if line.text.strip().startswith("#version")), None)
+        if at is None:
+            raise ShaderError("defines need a #version line to follow", path)
+        origin = lines[at].origin
+        lines[at + 1:at + 1] = [SourceLine(f"#define {name} {value}", origin) for name, value in defines]
     if stage is Stage.GEOMETRY:
         lines = apply_gs_header(lines, path, limits)
     else:

@@ -65,6 +65,7 @@ def _mtime(path: Path) -> int | None:
 class _Entry:
     name: str
     varyings: tuple[str, ...]
+    defines: tuple[tuple[str, str], ...] = ()
     program: moderngl.Program | None = None
     error: ShaderError | None = None
     mtimes: dict[Path, int | None] = field(default_factory=dict)
@@ -92,13 +93,14 @@ class ShaderLibrary:
         self.on_error = on_error
         self.errors: dict[str, ShaderError] = {}
         self.limits = query_gs_limits(ctx)
-        self._entries: dict[tuple[str, tuple[str, ...]], _Entry] = {}
+        self._entries: dict[tuple, _Entry] = {}
 
-    def program(self, name: str, varyings: tuple[str, ...] = ()) -> moderngl.Program:
-        key = (name, tuple(varyings))
+    def program(self, name: str, varyings: tuple[str, ...] = (), defines: dict | None = None) -> moderngl.Program:
+        """`defines`: {name: value} as `#define`s in every stage, one program for each set."""
+        key = (name, tuple(varyings), tuple(sorted((k, str(v)) for k, v in (defines or {}).items())))
         entry = self._entries.get(key)
         if entry is None:
-            entry = self._entries[key] = _Entry(name, key[1])
+            entry = self._entries[key] = _Entry(name, key[1], key[2])
             self._rebuild(entry)
         # A program that never compiled is retried by reload_changed() once its
         # files change, not on every call (callers ask once per frame).
@@ -117,7 +119,7 @@ class ShaderLibrary:
     def _rebuild(self, entry: _Entry) -> bool:
         deps: set[Path] = set()
         try:
-            program = self._compile(entry.name, entry.varyings, deps)
+            program = self._compile(entry.name, entry.varyings, deps, entry.defines)
         except ShaderError as error:
             entry.error = self.errors[entry.name] = error
             if self.on_error is not None:
@@ -131,9 +133,10 @@ class ShaderLibrary:
         self.errors.pop(entry.name, None)
         return True
 
-    def _compile(self, name: str, varyings: tuple[str, ...], deps: set[Path]) -> moderngl.Program:
+    def _compile(self, name: str, varyings: tuple[str, ...], deps: set[Path],
+                 defines: tuple[tuple[str, str], ...] = ()) -> moderngl.Program:
         spec = parse_prg(self._find(name, deps), deps)
-        sources = {stage: load_stage(path, self.limits, deps) for stage, path in spec.stages.items()}
+        sources = {stage: load_stage(path, self.limits, deps, defines) for stage, path in spec.stages.items()}
         self._write_cache(sources.values())
         geometry = sources.get(Stage.GEOMETRY)
         try:

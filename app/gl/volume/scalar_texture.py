@@ -30,6 +30,7 @@ class ScalarTexture:
         self.ctx = ctx
         self.values: moderngl.Texture3D | None = None
         self.bricks: moderngl.Texture3D | None = None  # each brick's greatest value (scalar_modes.brick_maxima)
+        self.maxima: np.ndarray | None = None  # the same on the CPU (clip_box.py)
         self.colours: moderngl.Texture | None = None
         self.opacity: moderngl.Texture | None = None
         self.scale, self.offset = 1.0, 0.0
@@ -78,6 +79,7 @@ class ScalarTexture:
         maxima = brick_maxima(values)
         self.bricks = self.ctx.texture3d(maxima.shape[::-1], 1, maxima, dtype="f4")
         self.bricks.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.maxima = maxima
         self.uploaded_voxels += values.size
         self._source = values
 

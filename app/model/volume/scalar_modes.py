@@ -4,7 +4,8 @@
 Every mode marches the samples the F-modes march (app/model/volume/render_modes.py: S = cl_steps * |AB| midpoints,
 trilinear), of the values in data units, clamped at the box's faces (a scan's outside is its edge, not 0):
 - colour: the F-modes draw the coloured volume (the scalars through the window), as for an RGBA volume;
-- mip, minip, average: the greatest, least or mean value along the ray;
+- mip, minip, average: the greatest, least or mean value along the ray (mip and minip search around their best
+  sample, up to two steps either side, for the extreme between the samples: the reference's, at fine steps);
 - attenuated_mip: vispy's attenuated MIP, in the window's units t = (v - low) / (high - low): each sample's t is
   scaled by exp(-r_mipAttenuation * (A - 1)), A the clamped t accumulated along the ray so far per voxel of ray (vispy
   divides that sum by its step size where the integral multiplies; the two agree at one voxel a step), and the
