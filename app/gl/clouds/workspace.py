@@ -1,6 +1,7 @@
 """The clouds workspace's renderer: its model's frame through the cloud renderer; it keeps asking for
 frames while its temporal histories fill (TAA, reprojection). Its cheaper levels trace a smaller cloud buffer
-and, last, fewer steps."""
+and fewer steps into the full-size picture, reprojected through the turn (the ground and the horizon stay exact,
+and the history they leave is sharp at once when the view stops); only the last two draw fewer pixels."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -11,13 +12,13 @@ from app.gl.core.renderer_base import WorkspaceRendererBase
 from app.io.clouds.textures import noise_textures
 from app.model.clouds.scene import CloudRenderSettings
 
-DOWNSAMPLES = (1, 2, 4, 4)   # the cloud buffer's least reduction, by the level's `cheap`
-STEP_FACTORS = (1, 1, 1, 0.5)
+DOWNSAMPLES = (1, 2, 4, 4, 8, 8)   # the cloud buffer's least reduction, by the level's `cheap`
+STEP_FACTORS = (1, 1, 1, 0.5, 0.5, 0.25)
 MIN_STEPS = 8
 
 
 class CloudsWorkspaceRenderer(WorkspaceRendererBase):
-    LEVELS = (FULL, Level(1.0, 1), Level(1.0, 2), Level(0.5, 2), Level(0.25, 2), Level(0.25, 3))
+    LEVELS = (FULL, *(Level(1.0, cheap) for cheap in range(1, len(DOWNSAMPLES))), Level(0.5, 5), Level(0.25, 5))
 
     def __init__(self, ctx, shaders) -> None:
         super().__init__(ctx, shaders)
