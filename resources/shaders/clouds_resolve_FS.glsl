@@ -36,13 +36,14 @@ vec4 fresh_at(ivec2 texel) {
     return texelFetch(u_fresh, clamp(texel, ivec2(0), textureSize(u_fresh, 0) - 1), 0);
 }
 
-// Where direction d was in the last frame's output, in pixels; false if off its edge (never read there).
+// Where direction d was in the last frame's output, in pixels; false if off its picture (never read there: the
+// strips the renderer traces after a turn, reprojection.py's new_directions, hold what is).
 bool last_frame_pixel(vec3 d, out vec2 at) {
     float z = dot(d, u_prev_forward);
     if (z <= 0.0) return false;
     vec2 ndc = vec2(dot(d, u_prev_right) / (u_tan_half_fov * u_aspect), dot(d, u_prev_up) / u_tan_half_fov) / z;
     at = (ndc * 0.5 + 0.5) * vec2(u_size);
-    return all(greaterThanEqual(at, vec2(0.5))) && all(lessThanEqual(at, vec2(u_size) - 0.5));
+    return all(greaterThanEqual(at, vec2(0.0))) && all(lessThanEqual(at, vec2(u_size)));
 }
 
 void main() {

@@ -257,19 +257,19 @@ class CloudRenderer:
                    u_frames=frames, u_rank=rank, u_average=int(settings.taa and settings.jitter), u_prior=prior,
                    u_min_weight=1.0 / TAA_FRAMES if moving else 0.0)
         if mode == 2:
-            self._trace_new(out, basis, (values["u_forward"], values["u_right"], values["u_up"]), values, d, offset)
+            self._trace_new(out, basis, (values["u_forward"], values["u_right"], values["u_up"]), values, offset)
         if last is not None and not restart:
             self._compared = (last.textures[0], out.textures[0])
         self._resolved = out
         self.last_lookups = out
         return out.textures[0]
 
-    def _trace_new(self, out: Target, before, now, values, d: int, offset: float) -> None:
+    def _trace_new(self, out: Target, before, now, values, offset: float) -> None:
         """Trace at full size, into the resolved buffer, what a turn brought into view (the last frame has nothing
-        there), unless that is more than NEW_SHARE of the frame's own trace."""
+        there), unless that is more than NEW_SHARE of the picture."""
         size = out.size
         rects = new_directions(before, now, values["u_tan_half_fov"], size)
-        if not rects or sum(w * h for _x, _y, w, h in rects) > NEW_SHARE * size[0] * size[1] / d ** 2:
+        if not rects or sum(w * h for _x, _y, w, h in rects) > NEW_SHARE * size[0] * size[1]:
             return
         for rect in rects:
             out.fbo.scissor = rect

@@ -8,9 +8,10 @@ import math
 import moderngl
 import numpy as np
 
-# The directions a turn brought into view are traced at full size where they are at most this share of the
-# frame's own trace (a fast turn shows this frame's buffer there instead).
-NEW_SHARE = 0.5
+# The directions a turn brought into view are traced at full size where they are at most this share of the picture
+# (half a quarter buffer's rays: a turn of some 2 degrees a frame at the editor's default view); a faster turn
+# shows this frame's buffer there instead.
+NEW_SHARE = 1 / 32
 
 
 def cloud_motion(before: tuple, now: tuple) -> tuple[float, float, float]:
@@ -37,25 +38,25 @@ def _clip(polygon: list[tuple[float, float, float]]) -> list[tuple[float, float]
 
 def new_directions(before: tuple, now: tuple, tan_half_fov: float, size: tuple[int, int]
                    ) -> list[tuple[int, int, int, int]]:
-    """Rectangles (x, y, width, height, in pixels from the bottom left) that cover the directions of view `now`
-    (forward, right, up) outside the last frame's view `before`: the current image beyond each of its four
-    edges, a straight line in it (a plane through the eye), with a pixel's margin."""
+    """Rectangles (x, y, width, height, in pixels from the bottom left) holding every pixel of view `now` (forward,
+    right, up) whose centre looks outside the last frame's picture `before`, or within a quarter pixel of its edge:
+    beyond each edge of that picture, a straight line in this one (a plane through the eye)."""
     w, h = size
     aspect = w / h
     f, r, u = (np.array(v, dtype=np.float64) for v in now)
     f0, r0, u0 = (np.array(v, dtype=np.float64) for v in before)
-    corners = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+    centres = [(0.5, 0.5), (w - 0.5, 0.5), (w - 0.5, h - 0.5), (0.5, h - 0.5)]
+    half_x, half_y = aspect * tan_half_fov * (1 - 0.5 / w), tan_half_fov * (1 - 0.5 / h)
     rects = []
-    for edge, half in ((r0, aspect * tan_half_fov), (-r0, aspect * tan_half_fov), (u0, tan_half_fov),
-                       (-u0, tan_half_fov)):
-        def g(x: float, y: float) -> float:  # >= 0 inside the last frame's view along this edge
+    for edge, half in ((r0, half_x), (-r0, half_x), (u0, half_y), (-u0, half_y)):
+        def g(x: float, y: float) -> float:  # >= 0 inside the last frame's picture along this edge
             d = f + (x / w * 2 - 1) * aspect * tan_half_fov * r + (y / h * 2 - 1) * tan_half_fov * u
             return half * float(d @ f0) - float(d @ edge)
-        outside = _clip([(x, y, g(x, y)) for x, y in corners])
-        if outside:
+        outside = _clip([(x, y, g(x, y)) for x, y in centres])
+        if outside:  # the pixels whose centres lie in it
             xs, ys = [p[0] for p in outside], [p[1] for p in outside]
-            x0, y0 = max(0, math.floor(min(xs)) - 1), max(0, math.floor(min(ys)) - 1)
-            x1, y1 = min(w, math.ceil(max(xs)) + 1), min(h, math.ceil(max(ys)) + 1)
+            x0, x1 = math.ceil(min(xs) - 0.5), math.floor(max(xs) - 0.5) + 1
+            y0, y1 = math.ceil(min(ys) - 0.5), math.floor(max(ys) - 0.5) + 1
             if x1 > x0 and y1 > y0:
                 rects.append((x0, y0, x1 - x0, y1 - y0))
     return rects
