@@ -9,7 +9,8 @@
 // its clouds were then (through the camera's turn and the wind's motion at the clouds' depth), and falls back to
 // this frame's buffer where the last frame has nothing to give (off its edge, or never traced since the view
 // changed). Both are read only from texels whose rays end where this pixel's does (clouds_upsample.shl).
-uniform ivec2 u_size;            // the output's size
+uniform ivec2 u_size;            // the reprojected picture's size
+uniform ivec2 u_history_size;    // the last one's (a drag's cheapest level draws a smaller one)
 uniform int u_down;              // d: the block's edge, r_cloudDownsample
 uniform ivec2 u_phase;           // the pixel of each block traced this frame
 uniform sampler2D u_fresh;       // this frame's trace: texel b is output pixel b * d + u_phase
@@ -42,8 +43,8 @@ bool last_frame_pixel(vec3 d, out vec2 at) {
     float z = dot(d, u_prev_forward);
     if (z <= 0.0) return false;
     vec2 ndc = vec2(dot(d, u_prev_right) / (u_tan_half_fov * u_aspect), dot(d, u_prev_up) / u_tan_half_fov) / z;
-    at = (ndc * 0.5 + 0.5) * vec2(u_size);
-    return all(greaterThanEqual(at, vec2(0.0))) && all(lessThanEqual(at, vec2(u_size)));
+    at = (ndc * 0.5 + 0.5) * vec2(u_history_size);
+    return all(greaterThanEqual(at, vec2(0.0))) && all(lessThanEqual(at, vec2(u_history_size)));
 }
 
 void main() {
@@ -70,10 +71,10 @@ void main() {
     if (u_history_mode != 0) {
         vec2 at = vec2(pixel) + 0.5;
         bool seen = true;
-        if (u_history_mode == 2 || u_clamp == 1) {
+        if (u_history_mode == 2 || u_clamp == 1 || u_history_size != u_size) {
             seen = last_frame_pixel(d, at);
             if (seen && u_clamp == 1) {
-                float depth = texelFetch(u_history_state, ivec2(at), 0).a;
+                float depth = texelFetch(u_history_state, min(ivec2(at), u_history_size - 1), 0).a;
                 seen = last_frame_pixel(last_direction(d, depth, u_motion), at);
             }
         }

@@ -46,7 +46,7 @@ TAA_FRAMES = 16       # while the clock runs the history's weight settles at 1 -
 GOLDEN = 0.61803398875  # the blue noise's shift per frame: every offset visited evenly over time
 # What the host's cheaper levels change (the workspace's `cheaper`, TAA off while interactive): a reprojected
 # history outlives them, each of its pixels traced again at the new quality within d^2 frames.
-REFINED = ("steps", "downsample", "taa")
+REFINED = ("steps", "downsample", "taa", "reproject_downsample")
 CONVERGED = 0.1 / 255   # a still view has settled once a frame changes its clouds by less (mean per texel, RGB)
 MAX_SETTLING = 256      # ... or after this many frames since its history restarted
 STATE = 4               # the state texture's components: lookups, traced, ground, depth (clouds_upsample.shl)
@@ -220,6 +220,8 @@ class CloudRenderer:
             self._resolved, self.reprojected_frames = None, 0
             return target.textures[0]
         d = settings.downsample
+        size = buffer_size(size, settings.reproject_downsample)  # the reprojected picture's
+        bsize = buffer_size(size, d)
         last = self._resolved if history else None
         mode = history if last is not None else 0
         # the per-pixel sample counts restart with the history, on a turn and on a change of quality; when the
@@ -251,8 +253,8 @@ class CloudRenderer:
         moving = self._clock_moved and mode != 0
         self._draw("clouds_resolve", out.fbo, values,
                    **self.units.uniforms("u_fresh", "u_fresh_lookups", "u_history", "u_history_state"),
-                   u_size=size, u_down=d, u_phase=phase, u_history_mode=mode, u_prev_forward=basis[0],
-                   u_prev_right=basis[1], u_prev_up=basis[2],
+                   u_size=size, u_history_size=size if last is None else last.size, u_down=d, u_phase=phase,
+                   u_history_mode=mode, u_prev_forward=basis[0], u_prev_right=basis[1], u_prev_up=basis[2],
                    u_motion=cloud_motion(self._clock, clock) if moving else (0.0, 0.0, 0.0), u_clamp=int(moving),
                    u_frames=frames, u_rank=rank, u_average=int(settings.taa and settings.jitter), u_prior=prior,
                    u_min_weight=1.0 / TAA_FRAMES if moving else 0.0)
@@ -271,11 +273,11 @@ class CloudRenderer:
         rects = new_directions(before, now, values["u_tan_half_fov"], size)
         if not rects or sum(w * h for _x, _y, w, h in rects) > NEW_SHARE * size[0] * size[1]:
             return
-        for rect in rects:
-            out.fbo.scissor = rect
+        for rect in rects:  # the screen's triangle drawn into the strip alone: gl_FragCoord stays the pixel's
+            out.fbo.viewport = rect
             self._draw("clouds_trace", out.fbo, values, u_buffer=size, u_stride=1, u_phase=(0, 0),
                        u_frame_offset=offset)
-        out.fbo.scissor = None
+        out.fbo.viewport = (0, 0, *size)
 
     def _temporal_aa(self, bsize, current: moderngl.Texture, values, valid: bool) -> moderngl.Texture:
         history = self._taa if valid else None

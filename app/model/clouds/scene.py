@@ -301,3 +301,5 @@ class CloudRenderSettings:
     reproject: bool = True        # trace one pixel of each downsample^2 block a frame, reproject the rest
     debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
     integration: str = "energy"   # or "seed"
+    reproject_downsample: int = 1  # the reprojected picture is 1/this of the output on each axis (no cvar: the
+                                   # host's cheapest full-size level of a drag)
