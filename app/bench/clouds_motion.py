@@ -123,7 +123,9 @@ class Motion:
                 self.scene.view = start
                 size = (max(1, math.ceil(self.size[0] * level.scale)), max(1, math.ceil(self.size[1] * level.scale)))
                 image, _ = self.turn(settings, DRAG_TURN, DRAG_FRAMES, size=size)
-                out[f"drag, level {level.scale:g} x size, cheap {level.cheap} (d = {settings.downsample}, "
+                picture = (f" of a 1/{settings.reproject_downsample} size picture"
+                           if settings.reproject_downsample > 1 else "")
+                out[f"drag, level {level.scale:g} x size, cheap {level.cheap} (d = {settings.downsample}{picture}, "
                     f"{settings.steps} steps)"] = smear(image, self.truth(), self.scene.view)
             self.scene.view = start
             _state, slow = self.turn(replace(base, downsample=4, reproject=True), SLOW_TURN, SLOW_FRAMES, SLOW_AT)
