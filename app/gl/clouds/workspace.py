@@ -1,8 +1,8 @@
 """The clouds workspace's renderer: its model's frame through the cloud renderer; it keeps asking for
 frames while its temporal histories fill (TAA, reprojection). Its cheaper levels trace a smaller cloud buffer
-and fewer steps into the full-size picture, reprojected through the turn (the ground and the horizon stay exact,
-and the history they leave is sharp at once when the view stops); the cheapest of them reprojects a half-size
-picture; only the last two draw fewer pixels."""
+and fewer steps into the reprojected picture (the cheapest a half-size one) under the full-size composite: none
+draws fewer pixels, so the ground and the horizon stay exact, and the history a drag leaves goes on when the
+view stops (the host's reduced target would stretch the horizon over the ground and restart the history)."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -15,14 +15,13 @@ from app.model.clouds.scene import CloudRenderSettings
 
 # By the level's `cheap`: the cloud buffer's least reduction (of the reprojected picture), the share of the steps,
 # and the reprojected picture's reduction.
-SAVINGS = ((1, 1, 1), (2, 1, 1), (4, 1, 1), (4, 0.5, 1), (8, 0.5, 1), (8, 0.25, 1), (8, 0.125, 1), (4, 0.125, 2))
+SAVINGS = ((1, 1, 1), (2, 1, 1), (4, 1, 1), (4, 0.5, 1), (8, 0.5, 1), (8, 0.25, 1), (4, 0.25, 2))
 MIN_STEPS = 8
 CHEAPEST = len(SAVINGS) - 1
 
 
 class CloudsWorkspaceRenderer(WorkspaceRendererBase):
-    LEVELS = (FULL, *(Level(1.0, cheap) for cheap in range(1, CHEAPEST + 1)), Level(0.5, CHEAPEST),
-              Level(0.25, CHEAPEST))
+    LEVELS = (FULL, *(Level(1.0, cheap) for cheap in range(1, CHEAPEST + 1)))
 
     def __init__(self, ctx, shaders) -> None:
         super().__init__(ctx, shaders)
