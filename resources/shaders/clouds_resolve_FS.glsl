@@ -4,17 +4,18 @@
 //#INCLUDE clouds_upsample.shl
 //#INSERT clouds_upsample
 
-// Guerrilla's reprojection at the output's size: each frame the reduced buffer traced one pixel of every
-// d x d block (u_phase), which is written here exactly; every other pixel keeps what the last frame showed where
-// its clouds were then (through the camera's turn and the wind's motion at the clouds' depth), and falls back to
-// this frame's buffer where the last frame has nothing to give (off its edge, or never traced since the view
-// changed). Both are read only from texels whose rays end where this pixel's does (clouds_upsample.shl).
+// Guerrilla's reprojection at the picture's size (the output's; half of it at a drag's cheapest level): each frame
+// the reduced buffer traced one pixel of every d x d block (u_phase), which is written here exactly; every other
+// pixel keeps what the last frame showed where its clouds were then (through the camera's turn and the wind's
+// motion at the clouds' depth), and falls back to this frame's buffer where the last frame has nothing to give
+// (off its edge, or never traced since the view changed). Both are read only from texels whose rays end where this
+// pixel's does (clouds_upsample.shl).
 uniform ivec2 u_size;            // the reprojected picture's size
 uniform ivec2 u_history_size;    // the last one's (a drag's cheapest level draws a smaller one)
 uniform int u_down;              // d: the block's edge, r_cloudDownsample
 uniform ivec2 u_phase;           // the pixel of each block traced this frame
-uniform sampler2D u_fresh;       // this frame's trace: texel b is output pixel b * d + u_phase
-uniform sampler2D u_fresh_lookups;  // its state
+uniform sampler2D u_fresh;       // this frame's trace: texel b is picture pixel b * d + u_phase
+uniform sampler2D u_fresh_state; // its state
 uniform sampler2D u_history;     // the last frame's output
 uniform sampler2D u_history_state;  // its state
 uniform int u_history_mode;      // 0 none, 1 the same view (the clock may run), 2 the view turned
@@ -22,8 +23,7 @@ uniform vec3 u_prev_forward;     // the last frame's camera basis
 uniform vec3 u_prev_right;
 uniform vec3 u_prev_up;
 uniform vec3 u_motion;           // how far the clouds moved since the last frame, metres (the wind)
-uniform int u_clamp;             // the clock moved: kept pixels follow u_motion and are clamped to what was
-                                 // traced around them
+uniform int u_clock_moved;       // kept pixels follow u_motion and are clamped to what was traced around them
 uniform int u_frames;            // frames since the counts restarted, this one included
 uniform int u_rank[64];          // frames after the restart each pixel of a block (x + d y) is first traced
 uniform int u_average;           // TAA: a pixel's new sample is averaged with its earlier ones
@@ -54,7 +54,7 @@ void main() {
     bool traced = offset == u_phase;
     vec3 d = ray_dir((vec2(pixel) + 0.5) / vec2(u_size) * 2.0 - 1.0);
     float ground = ground_ray(u_camera, d) ? 1.0 : 0.0;
-    vec4 fresh_state = texelFetch(u_fresh_lookups, block, 0);  // of this pixel's block (traced: its own)
+    vec4 fresh_state = texelFetch(u_fresh_state, block, 0);  // of this pixel's block (traced: its own)
     float lookups_here = traced ? fresh_state.r : 0.0;
     float t0, t1;
     if (!cloud_segment(u_camera, d, t0, t1)) {  // no clouds on this ray, as the trace would say
@@ -71,9 +71,9 @@ void main() {
     if (u_history_mode != 0) {
         vec2 at = vec2(pixel) + 0.5;
         bool seen = true;
-        if (u_history_mode == 2 || u_clamp == 1 || u_history_size != u_size) {
+        if (u_history_mode == 2 || u_clock_moved == 1 || u_history_size != u_size) {
             seen = last_frame_pixel(d, at);
-            if (seen && u_clamp == 1) {
+            if (seen && u_clock_moved == 1) {
                 float depth = texelFetch(u_history_state, min(ivec2(at), u_history_size - 1), 0).a;
                 seen = last_frame_pixel(last_direction(d, depth, u_motion), at);
             }
@@ -85,7 +85,7 @@ void main() {
             has_kept = weight > 0.0;
         }
     }
-    if (has_kept && u_clamp == 1) {  // what the wind changed (beyond its motion) does not linger
+    if (has_kept && u_clock_moved == 1) {  // what the wind changed (beyond its motion) does not linger
         ivec2 q = ivec2(floor(vec2(pixel - u_phase) / float(u_down) + 0.5));
         vec4 lo = vec4(1e30), hi = vec4(-1e30);
         for (int y = -1; y <= 1; y++) {
@@ -110,7 +110,7 @@ void main() {
         out_state = vec4(0.0, 1.0, ground, kept_state.a);
     } else {  // this frame's buffer, from the traced pixels around on this side of the horizon
         float weight;
-        out_clouds = upsample(u_fresh, u_fresh_lookups, vec2(pixel - u_phase) / float(u_down), ground, false,
+        out_clouds = upsample(u_fresh, u_fresh_state, vec2(pixel - u_phase) / float(u_down), ground, false,
                               fresh_state, weight);
         out_state = vec4(0.0, 0.0, ground, fresh_state.a);
     }

@@ -4,9 +4,10 @@
 Passes per frame (docs/clouds.md, "Optimisations"):
 1. trace: every pixel of the cloud buffer (1/d of the output on each axis); with reprojection that pixel is
    one output pixel of its d x d block, a different one each frame (d = 4: Guerrilla's 4x4 Bayer order);
-2. resolve (reprojection only, at the output's size): the traced pixels, the others from the last frame where
-   their clouds were then (through a turn and the wind's motion at the clouds' depth; clamped to what was traced
-   around them while the clock runs), or this frame's buffer where the last frame has nothing;
+2. resolve (reprojection only, at the output's size; half of it for a drag's cheapest level): the traced pixels,
+   the others from the last frame where their clouds were then (through a turn and the wind's motion at the
+   clouds' depth; clamped to what was traced around them while the clock runs), or this frame's buffer where the
+   last frame has nothing; what a turn brought into view is traced at that size;
 3. taa (without reprojection): the history, clamped to this frame's 3x3 neighbourhood, blended with it;
 4. composite: the buffer under or over the cirrus, over the sky or the shadowed ground.
 Every buffer is read between its texels only from those whose rays end where the pixel's does, the ground or
@@ -26,7 +27,6 @@ from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
 from app.model.clouds.scene import CloudRenderSettings, Frame
-
 
 
 def bayer_order(n: int) -> tuple[int, ...]:
@@ -246,16 +246,16 @@ class CloudRenderer:
                    u_frame_offset=offset)
         out = self._target("resolve_b" if last is self._targets.get("resolve_a") else "resolve_a", size,
                            (4, STATE))
-        self.units.bind(u_fresh=fresh.textures[0], u_fresh_lookups=fresh.textures[1])
+        self.units.bind(u_fresh=fresh.textures[0], u_fresh_state=fresh.textures[1])
         if last is not None:
             self.units.bind(u_history=last.textures[0], u_history_state=last.textures[1])
         basis = self._basis or (values["u_forward"], values["u_right"], values["u_up"])
         moving = self._clock_moved and mode != 0
         self._draw("clouds_resolve", out.fbo, values,
-                   **self.units.uniforms("u_fresh", "u_fresh_lookups", "u_history", "u_history_state"),
+                   **self.units.uniforms("u_fresh", "u_fresh_state", "u_history", "u_history_state"),
                    u_size=size, u_history_size=size if last is None else last.size, u_down=d, u_phase=phase,
                    u_history_mode=mode, u_prev_forward=basis[0], u_prev_right=basis[1], u_prev_up=basis[2],
-                   u_motion=cloud_motion(self._clock, clock) if moving else (0.0, 0.0, 0.0), u_clamp=int(moving),
+                   u_motion=cloud_motion(self._clock, clock) if moving else (0.0, 0.0, 0.0), u_clock_moved=int(moving),
                    u_frames=frames, u_rank=rank, u_average=int(settings.taa and settings.jitter), u_prior=prior,
                    u_min_weight=1.0 / TAA_FRAMES if moving else 0.0)
         if mode == 2:
@@ -267,8 +267,8 @@ class CloudRenderer:
         return out.textures[0]
 
     def _trace_new(self, out: Target, before, now, values, offset: float) -> None:
-        """Trace at full size, into the resolved buffer, what a turn brought into view (the last frame has nothing
-        there), unless that is more than NEW_SHARE of the picture."""
+        """Trace every pixel of what a turn brought into view into the resolved picture (the last frame has nothing
+        there), unless that is more than NEW_SHARE of it."""
         size = out.size
         rects = new_directions(before, now, values["u_tan_half_fov"], size)
         if not rects or sum(w * h for _x, _y, w, h in rects) > NEW_SHARE * size[0] * size[1]:
