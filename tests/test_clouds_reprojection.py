@@ -87,22 +87,22 @@ def test_turning_six_degrees_a_frame_leaves_the_ground_as_the_full_size_trace_ha
     assert smeared(shown.image(SIZE), truth(full, scene), scene.view) < 0.005
 
 
-def test_every_level_of_a_drag_leaves_the_ground_exact_and_the_history_whole(gl, shared):
+def test_every_level_of_a_drag_leaves_the_ground_exact_and_goes_on_from_the_history(gl, shared):
     """The clouds' levels for a drag all draw every pixel (the ground exact; the old levels left 0.6 to 7.6 % of
     it more than 10/255 off at 320x180), reprojecting through the turn; the cheapest traces a 64th of the pixels,
-    at a quarter of the steps, into a half-size picture. The history a drag leaves is whole: the first still
-    frame after it shows no stretched buffer anywhere and, after a drag at a quarter buffer and half the steps,
-    is nearer the truth than a restarted history."""
+    at a quarter of the steps, into a half-size picture. A drag goes on from the still view's history down the
+    levels (its picture holds no stretched buffer anywhere), but the still frame after it starts again: the
+    drag's coarser picture would show through it."""
     renderer = CloudsWorkspaceRenderer(gl, shared.shaders(gl))
-    full_size = CloudsWorkspaceRenderer.LEVELS
-    assert all(level.scale == 1.0 for level in full_size)
+    levels = CloudsWorkspaceRenderer.LEVELS
+    assert all(level.scale == 1.0 for level in levels)
     defaults = CloudRenderSettings()
-    cheapest = renderer.cheaper(defaults, full_size[-1].cheap)
+    cheapest = renderer.cheaper(defaults, levels[-1].cheap)
     assert cheapest.downsample * cheapest.reproject_downsample == 8 and cheapest.steps == defaults.steps // 4
     assert cheapest.reproject and cheapest.reproject_downsample == 2
-    assert renderer.cheaper(replace(defaults, reproject=False), full_size[-1].cheap).downsample == 8
+    assert renderer.cheaper(replace(defaults, reproject=False), levels[-1].cheap).downsample == 8
     base = CloudRenderSettings(steps=STEPS, jitter=False)
-    for level in full_size[1:]:
+    for level in levels[1:]:
         settings = replace(renderer.cheaper(base, level.cheap), taa=False)  # as the workspace draws a drag
         scene = horizon_scene()
         dragged, full = states(gl, shared, 2)
@@ -110,16 +110,11 @@ def test_every_level_of_a_drag_leaves_the_ground_exact_and_the_history_whole(gl,
         for _ in range(8):
             scene.view = replace(scene.view, yaw=scene.view.yaw + 0.5)
             dragged.draw(scene, settings, SIZE)
-        reference = truth(full, scene)
-        assert smeared(dragged.image(SIZE), reference, scene.view) < 0.005, level
-        dragged.draw(scene, base, SIZE)  # still
-        state = np.frombuffer(dragged.renderer.last_lookups.textures[1].read(), np.float32).reshape(-1, 4)
-        assert (state[:, 1] == 1.0).all(), level  # traced (what came into view too) or kept from traced pixels
-        if settings.downsample == 4 and settings.steps == STEPS // 2:
-            restarted = CloudState(gl, shared)
-            restarted.draw(scene, base, SIZE)
-            assert (np.abs(dragged.image(SIZE) - reference).mean()
-                    < np.abs(restarted.image(SIZE) - reference).mean())
+            traced = np.frombuffer(dragged.renderer.last_lookups.textures[1].read(), np.float32).reshape(-1, 4)
+            assert (traced[:, 1] == 1.0).all(), level  # traced (what came into view too) or kept from traced
+        assert smeared(dragged.image(SIZE), truth(full, scene), scene.view) < 0.005, level
+        dragged.draw(scene, base, SIZE)  # still: a finer quality, the history starts again
+        assert dragged.renderer.reprojected_frames == 1
 
 
 def test_a_sustained_slow_turn_levels_off(gl, shared):
