@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from app.bench.clouds_frames import CloudScene, CloudState, Shared
-from app.gl.clouds.renderer import CONVERGED, MAX_SETTLING
+from app.gl.clouds.renderer import CONVERGED, MAX_SETTLING, TAA_FRAMES
 from app.gl.core.headless import create_context, release_context
 from app.model.clouds.scene import CloudRenderSettings
 
@@ -48,6 +48,22 @@ def test_a_still_view_settles_once_a_frame_changes_the_clouds_by_less_than_a_ten
     assert frames > max(cycle, 16)
     assert changes[-1] < CONVERGED
     assert all(c >= CONVERGED for c in changes[cycle:-1] if c is not None)
+
+
+def test_a_running_clock_settles_once_the_fading_average_is_full():
+    """The winds blowing, nothing converges (the animation draws on anyway): the view counts as settled, for the
+    editor's screenshot, once TAA's fading average holds its 16 frames."""
+    ctx = create_context()
+    try:
+        state, scene, settings = CloudState(ctx, Shared()), CloudScene("test"), CloudRenderSettings()
+        for frame in range(1, MAX_SETTLING):
+            scene.wind_time += 0.2
+            state.draw(scene, settings, SIZE)
+            if not state.renderer.settling(settings):
+                break
+        assert frame == TAA_FRAMES
+    finally:
+        release_context(ctx)
 
 
 def test_render_draws_as_many_frames_as_the_convergence_rule_asks(tmp_path, capsys):

@@ -319,12 +319,13 @@ class CloudRenderer:
     def settling(self, settings: CloudRenderSettings) -> bool:
         """Whether more frames of an unchanged scene still change the image: reprojection fills its blocks in
         d^2 frames; TAA, which has something to average only while the jitter moves, until a frame changes the
-        clouds by less than CONVERGED (at most MAX_SETTLING frames)."""
+        clouds by less than CONVERGED (at most MAX_SETTLING frames). While the clock runs nothing converges: TAA
+        fills its fading average in TAA_FRAMES frames (the animation asks for the frames after)."""
         averaging = settings.taa and settings.jitter
         frames = self.reprojected_frames if reprojects(settings) else self.taa_frames
         if reprojects(settings) and frames < settings.downsample ** 2:
             return True
-        if not averaging or frames >= MAX_SETTLING:
+        if not averaging or frames >= (TAA_FRAMES if self._clock_moved else MAX_SETTLING):
             return False
         change = self.change()
         return change is None or change >= CONVERGED
