@@ -53,6 +53,9 @@ def parser() -> argparse.ArgumentParser:
                    help="console command to run before drawing (repeatable, in order)")
     r.add_argument("--size", type=_size, default=(640, 480), metavar="WxH")
     r.add_argument("--out", required=True, metavar="PNG")
+    r.add_argument("--overlays", action="store_true",
+                   help="draw the editor's marks over the scene too (the volume's slice plane, the 2D light icons "
+                        "and hull outlines, the 3D lights' markers and gizmo); without it, the scene alone")
     b = sub.add_parser("bench", help=VERBS["bench"])
     b.add_argument("technique", choices=sorted([*TECHNIQUES, "frames"]),
                    help="a technique's methods against its reference; frames: each workspace's interactive and still "
@@ -119,7 +122,7 @@ def render(args) -> int:
         target = OffscreenTarget(ctx, args.size)
         frames = 0
         while frames < MAX_SETTLING_FRAMES:  # a still scene: let temporal histories fill
-            renderer.render(target.fbo, editor.current, editor.render_settings())
+            renderer.render(target.fbo, editor.current, editor.render_settings(), overlays=args.overlays)
             frames += 1
             if not renderer.settling():
                 break
@@ -285,8 +288,9 @@ def editor(argv: list[str]) -> int:
     p.epilog = "headless verbs (shadelab VERB -h for each one's options):\n" + "\n".join(
         f"  shadelab {verb:<8} {text}" for verb, text in VERBS.items())
     args = p.parse_args(argv)
-    if args.file is not None and find(args.file) is None:  # as `exec`, `play`... find it: the resources too
-        p.error(f"{args.file!r} is neither a verb ({', '.join(VERBS)}) nor a file")
+    # as `exec`, `play`... find it: the resources too; a folder opens as a scan's series of slices
+    if args.file is not None and find(args.file) is None and not Path(args.file).is_dir():
+        p.error(f"{args.file!r} is neither a verb ({', '.join(VERBS)}) nor a file or folder")
     problem = display_problem()
     if problem is not None:
         print(f"shadelab: {problem}", file=sys.stderr)

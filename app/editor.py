@@ -38,7 +38,7 @@ class Editor:
             COMMANDS[state.name].register(self.console, state, checks)
             checks.reshaped_by(state.name, *core.REPLACING)  # a demo's checks cannot know what a file holds
         self.documents.track()
-        self.demos.snapshot_suffixes = self.documents.suffixes()
+        self.demos.snapshot_suffixes = self.documents.written_suffixes()
         if configs:
             self.run_start_configs()
         self.documents.forget_changes()  # the scenes an editor starts on are no one's unsaved work

@@ -10,7 +10,7 @@ from app.views.clouds_panel import GROUPS, TOGGLES
 
 def test_params_are_the_fields_of_cloud_params_in_order_with_their_defaults():
     defaults = CloudParams()
-    assert [p.name for p in PARAMS] == [f.name for f in fields(CloudParams)] and len(PARAMS) == 33
+    assert [p.name for p in PARAMS] == [f.name for f in fields(CloudParams)] and len(PARAMS) == 39
     assert {p.name: p.default for p in PARAMS} == defaults.values()
     assert list(PARAM) == [p.name for p in PARAMS]
     for p in PARAMS:
@@ -22,7 +22,7 @@ def test_params_are_the_fields_of_cloud_params_in_order_with_their_defaults():
 
 def test_whole_number_parameters_are_the_int_fields():
     assert [p.name for p in PARAMS if p.integer] == ["shape_noise", "detail_noise", "curl_noise", "light_samples",
-                                                     "multiscatter", "ground_shadows"]
+                                                     "multiscatter", "phase_max", "ground_shadows", "physical_sky"]
     assert PARAM["light_samples"].choices == (6, 30)
     with pytest.raises(ParamError, match="light_samples must be one of 6, 30, got 7"):
         CloudParams().with_value("light_samples", 7)
@@ -39,5 +39,6 @@ def test_cloud_params_stay_a_frozen_value_with_keyword_fields():
 
 
 def test_the_panel_shows_every_parameter_once():
-    shown = [name for _title, names in GROUPS for name in names] + list(TOGGLES) + ["weather_blend", "light_samples"]
+    own_rows = ["weather_blend", "light_samples", "phase_max"]
+    shown = [name for _title, names in GROUPS for name in names] + list(TOGGLES) + own_rows
     assert sorted(shown) == sorted(PARAM)

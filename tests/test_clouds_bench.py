@@ -118,7 +118,8 @@ def test_exact_optimisations_match_none_and_none_matches_itself(measured):
     assert row["none"].max_abs_error == 0
     for name in ("only light skip", "only detail skip", "only reprojection"):  # they skip only zeros
         assert row[name].extra["mean_abs_error"] < 1e-5, name
-    # the energy integration on the GPU is the CPU reference's, step for step
+    # the energy integration on the GPU is the CPU reference's, step for step: linear radiance against linear
+    # (the GPU's HDR frame before its tone map, app/bench/clouds_frames.py CloudState.image)
     for r in rows:
         if r.method == "energy":
             assert r.extra["same_steps_max_error"] < 2 / 255

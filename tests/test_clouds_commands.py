@@ -9,6 +9,7 @@ import pytest
 from PIL import Image
 
 from app.editor import Editor
+from app.model.clouds.exposure import ToneSettings
 from app.model.clouds.scene import PARAMS, CloudParams
 from app.model.clouds.workspace import MAX_TIME
 
@@ -40,10 +41,12 @@ def test_a_slider_drag_of_one_parameter_is_one_undo_step(editor):
 
 @pytest.mark.parametrize("line", ["clouds.set nonsense 1", "clouds.set coverage 3", "clouds.set coverage nan",
                                   "clouds.set light_samples 7", "clouds.set shape_noise 0.5",
-                                  "clouds.set shape_min 0.9", "camera.alt 0", "camera.alt 1e9",
+                                  "clouds.set shape_min 0.9", "clouds.set octave_scattering 0.8",
+                                  "clouds.set phase_max 2", "r_cloudFurnace maybe", "camera.alt 0", "camera.alt 1e9",
                                   "camera.look 0 91", "sun.dir 0 95", "sun.time 25", "weather.new -1",
                                   "clouds.time -1", "r_cloudSteps 0", "r_cloudDownsample 5",
-                                  "r_cloudIntegration exact"])
+                                  "r_cloudIntegration exact", "r_cloudExposure 11", "r_cloudExposure nan",
+                                  "r_cloudToneMap filmic"])
 def test_bad_arguments_are_refused_and_change_nothing(editor, line):
     before = editor.digest()
     assert not editor.execute(line)
@@ -166,11 +169,13 @@ def test_opening_commands_rebuild_the_state(editor, tmp_path):
 
 def test_render_settings_follow_the_cvars(editor):
     for line in ("r_cloudSteps 64", "r_cloudDownsample 3", "r_cloudTAA 0", "r_cloudIntegration seed",
-                 "r_cloudReproject 1", "r_cloudDebugSamples 1"):
+                 "r_cloudReproject 1", "r_cloudDebugSamples 1", "r_cloudExposure -1.5", "r_cloudAutoExposure 0",
+                 "r_cloudToneMap agx"):
         assert editor.execute(line)
     s = editor.render_settings()
     assert (s.steps, s.downsample, s.taa, s.integration, s.reproject, s.debug_samples) == (
         64, 3, False, "seed", True, True)
+    assert s.tone == ToneSettings(ev=-1.5, auto=False, curve="agx")
 
 
 def test_the_scene_file_is_json_with_every_parameter(editor, tmp_path):

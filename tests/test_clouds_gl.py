@@ -11,11 +11,15 @@ import pytest
 from app.gl.clouds.renderer import uniforms
 from app.gl.clouds.reprojection import NEW_SHARE, new_directions
 from app.gl.core.workspace_renderer import WorkspaceRenderer
+from app.model.clouds.exposure import ToneSettings
 from app.model.clouds.scene import CloudRenderSettings, camera_basis
 from app.model.clouds.workspace import CloudsWorkspace
 
 SIZE = (64, 36)
-PLAIN = CloudRenderSettings(steps=48, downsample=1, jitter=False, taa=False, reproject=False)
+# A fixed exposure: these compare pictures drawn through different histories, which an automatic one, set by each
+# picture's own mean, would tell apart everywhere (tests/test_clouds_tone_map.py tests it).
+PLAIN = CloudRenderSettings(steps=48, downsample=1, jitter=False, taa=False, reproject=False,
+                            tone=ToneSettings(auto=False))
 
 
 @pytest.fixture(scope="module")

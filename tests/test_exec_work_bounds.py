@@ -82,16 +82,16 @@ def test_a_record_name_too_long_for_the_file_system_is_refused_at_record(tmp_pat
     r = shadelab_exec(tmp_path, "-c", f"record {'d' * 245}", "-c", "snow.add 0 0", "-c", "stop")
     assert r.returncode == 1
     clean(r)
-    assert "record: too long a name: with .start." in r.stderr  # .json, .nrrd, .tiff: 5 characters each
-    assert "(a snapshot it may write beside the demo) it has 256 bytes, more than the 255 a file name may have " \
-           "here; give at most 244 bytes before .demo" in r.stderr
+    assert "record: too long a name: with .start.seg.nrrd" in r.stderr  # a scan's labels beside its snapshot
+    assert "(a snapshot it may write beside the demo) it has 260 bytes, more than the 255 a file name may have " \
+           "here; give at most 240 bytes before .demo" in r.stderr
     assert "nothing is recording" in r.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == []  # not even its snapshot
-    r = shadelab_exec(tmp_path, "-c", f"record {'d' * 244}", "-c", "workspace lights3d", "-c", "object.add box",
-                      "-c", "stop", "-c", f"record {'e' * 244}", "-c", "stop", "-c", f"play {'e' * 244}")
+    r = shadelab_exec(tmp_path, "-c", f"record {'d' * 240}", "-c", "workspace lights3d", "-c", "object.add box",
+                      "-c", "stop", "-c", f"record {'e' * 240}", "-c", "stop", "-c", f"play {'e' * 240}")
     assert r.returncode == 0, r.stderr
-    assert (tmp_path / f"{'d' * 244}.demo").is_file()  # the longest name there may be, with its temporary file's
-    assert (tmp_path / f"{'e' * 244}.start.json").is_file() and "demo finished" in r.stdout  # and its snapshot
+    assert (tmp_path / f"{'d' * 240}.demo").is_file()  # the longest name there may be, with its temporary file's
+    assert (tmp_path / f"{'e' * 240}.start.json").is_file() and "demo finished" in r.stdout  # and its snapshot
 
 
 def test_terminal_escapes_in_printed_text_do_not_reach_the_terminal(tmp_path):

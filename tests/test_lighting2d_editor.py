@@ -105,7 +105,11 @@ def test_a_hull_being_drawn_shows_its_rubber_band_to_the_cursor(window, qtbot):
     frames = vp.frames
     hover(vp, pixel(window, 0, 60))
     qtbot.waitUntil(lambda: vp.frames > frames)
-    segments = overlay(window)._selection_layer.lines.uploaded()
+    vp.makeCurrent()  # a buffer is read in its own context: Qt leaves another current at times
+    try:
+        segments = overlay(window)._selection_layer.lines.uploaded()
+    finally:
+        vp.doneCurrent()
     state = window.editor.workspaces["lighting2d"]
     first, last, cursor = (np.array(p) for p in (state.pending[0], state.pending[-1], state.pending_cursor))
     assert np.linalg.norm(cursor - (0, 60)) < 3

@@ -227,8 +227,9 @@ def test_view_orbit_places_the_camera_and_keeps_the_distance_unless_given(editor
     ("light3d.set 0 range inf", "light range must be finite"),
     ("light3d.set 0 falloff -1", "light falloff must be > 0"),
     ("light3d.set 0 angle 90", "spot angle must be below 90"),
-    ("light3d.set 0 shadow soft", "shadow method must be one of onepass, zpass, zfail, map, none, got 'soft'"),
-    ("light3d.set 0 shadow", "shadow takes one word (onepass|zpass|zfail|map|none), got 0"),
+    ("light3d.set 0 shadow soft",
+     "shadow method must be one of onepass, onepass-seed, zpass, zfail, map, none, got 'soft'"),
+    ("light3d.set 0 shadow", "shadow takes one word (onepass|onepass-seed|zpass|zfail|map|none), got 0"),
     ("light3d.set 0 kind area", "light kind must be one of"),
     ("light3d.move 5 0 0 0", "light3d.move: no light 5"),
     ("light3d.remove 2", "light3d.remove: no light 2"),
@@ -263,6 +264,8 @@ def test_view_orbit_places_the_camera_and_keeps_the_distance_unless_given(editor
     ("r_shadowPCF 2", "r_shadowPCF must be one of 1, 3, 5, got '2'"),
     ("r_shadowBias -0.001", "r_shadowBias must be within 0..0.1"),
     ("r_shadowBias nan", "r_shadowBias must be finite"),
+    ("r_shadowCascades 5", "r_shadowCascades must be within 1..4"),
+    ("r_shadowCascades 0", "r_shadowCascades must be within 1..4"),
     ("r_shadowDebug volumes", "r_shadowDebug must be one of none, stencil, mask"),
     ("undo", "nothing to undo"),
 ])
@@ -427,15 +430,18 @@ def test_lua_drives_the_commands(editor, tmp_path):
 # ---- the renderer's settings --------------------------------------------------------------------------------
 
 def test_render_settings_follow_the_cvars(editor):
-    assert editor.execute("r_shadowMapSize 2048; r_shadowPCF 1; r_shadowBias 0.02; r_shadowDebug stencil")
-    assert editor.render_settings() == Lights3DRenderSettings(map_size=2048, pcf=1, bias=0.02, debug="stencil")
+    assert editor.execute("r_shadowMapSize 2048; r_shadowPCF 1; r_shadowBias 0.02; r_shadowCascades 4; "
+                          "r_shadowDebug stencil")
+    assert editor.render_settings() == Lights3DRenderSettings(map_size=2048, pcf=1, bias=0.02, cascades=4,
+                                                              debug="stencil")
     assert editor.execute("help r_shadowPCF")
     assert logged(editor)[-1].startswith("r_shadowPCF (int, one of 1|3|5, now 1, default 3)")  # numbers as choices
 
 
 @pytest.mark.parametrize("changes, needle", [
     (dict(map_size=128), "within 256..4096"), (dict(pcf=4), "one of 1, 3, 5"),
-    (dict(bias=float("nan")), "bias must be within"), (dict(debug="x"), "one of none, stencil, mask")])
+    (dict(bias=float("nan")), "bias must be within"), (dict(cascades=5), "cascades must be within 1..4"),
+    (dict(debug="x"), "one of none, stencil, mask")])
 def test_render_settings_refuse_values_no_renderer_takes(changes, needle):
     with pytest.raises(ValueError, match=needle):
         Lights3DRenderSettings(**changes)

@@ -38,7 +38,7 @@ def test_object_values_refused_with_a_message(kwargs, needle):
 
 @pytest.mark.parametrize("kwargs, needle", [
     (dict(kind="area"), "light kind must be one of point, spot, directional, got 'area'"),
-    (dict(shadow="soft"), "shadow method must be one of onepass, zpass, zfail, map, none, got 'soft'"),
+    (dict(shadow="soft"), "shadow method must be one of onepass, onepass-seed, zpass, zfail, map, none, got 'soft'"),
     (dict(angle=0), "spot angle must be > 0 and <= 90, got 0"),
     (dict(angle=90), "spot angle must be below 90 degrees"),
     (dict(range=0), "light range must be > 0"),

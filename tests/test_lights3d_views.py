@@ -109,6 +109,21 @@ def test_the_shadow_combo_sets_the_selected_lights_method(lights3d):
     assert state(window).scene.lights[0].shadow == "zfail"
 
 
+def test_the_cascades_combo_sets_the_cvar_and_follows_it(lights3d):
+    window, commands = lights3d
+    p = panel(window)
+    commands.clear()
+    try:
+        p.cascades.setCurrentText("4")
+        assert commands == ["r_shadowCascades 4"]
+        assert window.editor.render_settings().cascades == 4
+        window.run("r_shadowCascades 2")
+        p.sync()
+        assert p.cascades.currentText() == "2"
+    finally:
+        window.run("r_shadowCascades 3")  # the default: the next test's window digests as the first's
+
+
 def test_the_direction_row_aims_a_spot_and_is_off_for_a_point_light(lights3d):
     window, commands = lights3d
     p = panel(window)

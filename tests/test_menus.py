@@ -26,9 +26,11 @@ def inputs(window):
 
 def test_the_menus_and_what_each_action_runs(window):
     menus = window.menus.menus
-    assert texts(menus["file"]) == ["&New", "&Open...", "Open &Recent", "&Save", "Save &As...", "&Quit"]
+    assert texts(menus["file"]) == ["&New", "&Open...", "Open &Folder...", "Open &Recent", "&Save", "Save &As...",
+                                    "&Quit"]
     assert texts(menus["edit"]) == ["&Undo", "&Redo"]
-    assert texts(menus["view"]) == ["Editor", "Console", "Speed vs accuracy", "&Frame All", "Reset &Layout"]
+    assert texts(menus["view"]) == ["Editor", "Console", "Speed vs accuracy", "Transfer function", "&Frame All",
+                                    "Reset &Layout"]
     assert texts(menus["help"]) == ["&Keys", "&Documentation", "&About Shadelab"]
     shortcuts = {a.text(): [k.toString() for k in a.shortcuts()] for m in menus.values() for a in m.actions()}
     assert shortcuts["&New"] == ["Ctrl+N"] and shortcuts["&Open..."] == ["Ctrl+O"] and shortcuts["&Quit"] == ["Ctrl+Q"]

@@ -1,6 +1,6 @@
 """Scalar volumes in the editor: 16-bit and float files load through a transfer function (window and colour map),
-the window changes without reloading, each change is one undo step, editing voxels bakes the window in (undo
-brings the scalars back), malformed files change nothing, and a window change uploads the volume once."""
+the window changes without reloading, each change is one undo step, malformed files change nothing, and a window
+change uploads the volume once. (Painting a scan paints labels over it: tests/test_volume_labels.py.)"""
 from __future__ import annotations
 
 import gzip
@@ -130,7 +130,7 @@ def test_a_window_step_keeps_no_voxels(volume_editor, tmp_path):
 def test_the_history_counts_a_scalar_step_the_same_going_out_as_coming_in():
     vol = Volume.new(2, 2, 2)
     vol.replace_scalars(phantom("float64"))  # its step holds the 2x2x2 image; undone, it holds the scalar volume
-    vol.paint.stroke("z", 0, 3, (255, 0, 0, 255), [(1, 1)])  # its step holds the scalars it baked
+    vol.paint.stroke_label("z", 0, 3, 1, [(1, 1)])  # its step holds the labels it changed
     assert vol.history.undo() and vol.history.undo()
     vol.paint.set_voxel(0, 0, 0, (1, 2, 3, 255))  # drops both redo steps
     assert vol.history.nbytes == sum(step.nbytes for step in vol.history._undo) == 4  # the one voxel
@@ -166,38 +166,6 @@ def test_nan_is_transparent_and_infinities_clamp(volume_editor, tmp_path):
 ])
 def test_the_default_window_of_degenerate_volumes(values, window):
     assert default_window(values) == window
-
-
-def test_editing_bakes_the_window_in_and_undo_brings_the_scalars_back(volume_editor, tmp_path):
-    values = phantom("int16")
-    vol = load(volume_editor, tmp_path, values, "v.tif")
-    scalars = vol.voxels.scalars
-    assert volume_editor.execute("stroke.preview z 2 3 255 0 0 255 1 1 9 9")  # a stroke in progress bakes nothing
-    assert vol.voxels.scalars is scalars
-    assert volume_editor.execute("stroke z 2 3 255 0 0 255 1 1 9 9")
-    painted = vol.voxels.data.copy()
-    assert vol.voxels.scalars is None and "baked the window into the colours" in infos(volume_editor)[-1]
-    assert not volume_editor.execute("vol.window 0 100")
-    assert "no scalars to window" in errors(volume_editor)[-1] and "undo the edit" in errors(volume_editor)[-1]
-    np.testing.assert_array_equal(vol.voxels.data, painted)
-    assert volume_editor.execute("undo")
-    assert vol.voxels.scalars is scalars
-    assert volume_editor.execute("redo")
-    assert vol.voxels.scalars is None
-    np.testing.assert_array_equal(vol.voxels.data, painted)
-    assert volume_editor.execute("undo") and volume_editor.execute("vol.window -1000 20")
-    np.testing.assert_array_equal(vol.voxels.data, grey(values, -1000, 20))
-    for edit in ("smooth", "voxel 1 1 1 9 9 9 255", "fill z 0 0 0 1 2 3 255"):
-        volume_editor.execute("undo")
-        assert vol.voxels.scalars is not None and volume_editor.execute(edit) and vol.voxels.scalars is None
-
-
-def test_scalars_too_big_for_the_undo_history_are_dropped_with_a_note(volume_editor, tmp_path):
-    vol = load(volume_editor, tmp_path, phantom("float64"), "v.npy")
-    vol.history.max_bytes = vol.voxels.scalars.nbytes  # the stroke's step holds them and its voxels: over the cap
-    assert volume_editor.execute("stroke z 0 1 255 0 0 255 1 1")
-    assert vol.voxels.scalars is None and vol.history.undo_depth == 0
-    assert "do not fit the undo history: load the file again" in infos(volume_editor)[-1]
 
 
 def test_rotations_turn_the_scalars_with_the_voxels(volume_editor, tmp_path):
@@ -254,9 +222,13 @@ def test_a_scalar_volume_over_the_memory_limit_is_refused_before_reading(volume_
     assert not volume_editor.execute("load big.nrrd")
     assert "its scalars and their colours" in errors(volume_editor)[-1]
     assert volume(volume_editor).voxels.digest() == before
-    with pytest.raises(voxels_model.VolumeError, match="RGBA data and scalars"):
+    with pytest.raises(voxels_model.VolumeError, match="RGBA data, scalars and labels"):
         volume(volume_editor).replace_scalars(values)
-    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 12)
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 13 - 1)  # no room for a label a voxel
+    assert not volume_editor.execute("load big.nrrd")
+    assert "RGBA data, scalars and labels" in errors(volume_editor)[-1]
+    assert volume(volume_editor).voxels.digest() == before
+    monkeypatch.setattr(voxels_model, "MAX_BYTES", values.size * 13)
     assert volume_editor.execute("load big.nrrd")
 
 
@@ -287,7 +259,7 @@ def test_an_autosaved_scalar_volume_recovers_as_scalars_with_its_window(volume_e
     """The autosave keeps the scalars and the window (an .nrrd, not the .r3 of colours it was), so the recovered
     volume windows again; a tampered window is refused like any malformed file, changing nothing."""
     values = phantom("int16")
-    vol = load(volume_editor, tmp_path, values, "ct.npy")
+    load(volume_editor, tmp_path, values, "ct.npy")
     assert volume_editor.execute("vol.window -990 -20; vol.colormap hot")
     folder = tmp_path / "session"
     assert volume_editor.documents.autosave(folder) == 1
@@ -309,10 +281,13 @@ def test_an_autosaved_scalar_volume_recovers_as_scalars_with_its_window(volume_e
     assert "shadelab_window field: the window's low must be below its high" in errors(fresh)[-1]
     assert fresh.digest() == before
 
-    assert volume_editor.execute("voxel 1 1 1 255 0 0 255")  # bakes the window in: colours from now on
+    assert volume_editor.execute("label.voxel 1 1 1 3")  # labels over the scan: kept beside its .nrrd
     assert volume_editor.documents.autosave(folder) == 1
-    assert sorted(p.name for p in folder.iterdir()) == ["autosave.json", "volume.r3"]  # the .nrrd went
-    np.testing.assert_array_equal(read_volume(folder / "volume.r3"), vol.voxels.data)
+    assert sorted(p.name for p in folder.iterdir()) == ["autosave.json", "volume.nrrd", "volume.seg.nrrd"]
+    again = Editor(clock=VirtualClock(), configs=False)
+    [scene] = again.documents.recoverable(folder)
+    assert again.execute(f"recover {scene.file} {scene.original}"), errors(again)
+    assert volume(again).voxels.label_at(1, 1, 1) == 3 and again.digest()["volume"] == volume_editor.digest()["volume"]
 
 
 def test_a_load_keeps_the_values_it_read_without_a_second_copy(volume_editor, tmp_path):

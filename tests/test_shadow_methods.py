@@ -4,14 +4,11 @@ declares and showing the reference's shadows (none: the formulas alone)."""
 import numpy as np
 import pytest
 
-from app.gl.core.headless import OffscreenTarget
-from app.gl.core.shaders import ShaderLibrary
 from app.gl.core.stencil import GL
-from app.gl.lights3d.renderer import Lights3DRenderer
 from app.gl.lights3d.shadow_methods import METHODS
 from app.model.lights3d.scene import SHADOW_METHODS, Lights3DCamera, default_scene
 from app.reference import lights3d as reference
-from app.resources import SHADERS
+from tests.shadow_cases import renderer_and_target
 
 SIZE = (96, 72)
 CLOSE = Lights3DCamera(distance=250.0)
@@ -20,11 +17,7 @@ OFF = 4 / 255  # a pixel further than this from the reference's is wrong
 
 @pytest.fixture(scope="module")
 def host(gl):
-    renderer, target = Lights3DRenderer(gl, ShaderLibrary(gl, [SHADERS])), OffscreenTarget(gl, SIZE)
-    yield renderer, target
-    renderer.release()
-    gl.detect_framebuffer(0).use()  # moderngl binds its last framebuffer again: never a deleted one
-    target.release()
+    yield from renderer_and_target(gl, SIZE)
 
 
 def test_the_models_method_names_are_the_registrys():

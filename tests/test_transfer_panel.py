@@ -64,6 +64,9 @@ def test_a_refused_window_snaps_back_and_console_commands_show(window, panel, qt
     window.run("vol.window 100 300; vol.colormap viridis")
     window.refresh()
     assert (panel.low.value(), panel.high.value(), panel.colormap.currentText()) == (100, 300, "viridis")
-    window.run("stroke z 5 1 255 0 0 255 6 6")  # bakes the window in
+    window.run("label.stroke z 5 1 2 6 6")  # labels over the scan: it windows as before
     window.refresh()
-    assert not panel.isEnabled() and "undo it to window again" in panel.info.text()
+    assert panel.isEnabled() and panel.colormap.currentText() == "viridis"
+    window.run("new 8 8 8")  # RGBA: nothing to window
+    window.refresh()
+    assert not panel.isEnabled() and "no scalars to window" in panel.info.text()

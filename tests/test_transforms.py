@@ -5,7 +5,7 @@ import moderngl
 import numpy as np
 import pytest
 
-from app.model.transforms import gl_matrix, least_axis, look_at, orthographic, perspective
+from app.model.transforms import frustum, gl_matrix, least_axis, look_at, orthographic, perspective
 
 
 def test_perspective_maps_the_near_and_far_planes_to_the_clip_cube():
@@ -24,6 +24,18 @@ def test_perspective_narrows_x_by_the_aspect():
     assert m[0, 0] == pytest.approx(focal / 2) and m[1, 1] == pytest.approx(focal)
     corner = m @ [2 * math.tan(math.radians(30)), math.tan(math.radians(30)), -1.0, 1.0]  # the view's corner at z=-1
     assert corner[:2] / corner[3] == pytest.approx([1.0, 1.0])
+
+
+def test_a_frustum_maps_its_window_of_tangents_to_the_clip_square():
+    np.testing.assert_array_equal(frustum((-1.0, -1.0), (1.0, 1.0), 1.0, 3.0), perspective(1.0, 1.0, 1.0, 3.0))
+    m = frustum((0.5, -0.25), (1.5, 0.75), 2.0, 8.0)  # off centre: right of the axis, mostly above it
+    for (tx, ty), ndc in (((0.5, -0.25), (-1, -1)), ((1.5, 0.75), (1, 1)), ((1.0, 0.25), (0, 0))):
+        for depth in (2.0, 5.0):  # the same tangent at any depth: the same place in the window
+            clip = m @ [tx * depth, ty * depth, -depth, 1.0]
+            assert clip[:2] / clip[3] == pytest.approx(ndc)
+    for z, ndc in ((-2.0, -1.0), (-8.0, 1.0)):
+        clip = m @ [0.0, 0.0, z, 1.0]
+        assert clip[2] / clip[3] == pytest.approx(ndc)
 
 
 def test_orthographic_maps_its_box_to_the_clip_cube():

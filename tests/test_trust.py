@@ -69,7 +69,7 @@ def test_the_docs_table_is_made_from_the_registry(window):
     assert capabilities.table(registry) in text
     declared = {c.key: c.allow for c in (registry.commands[k] for k in registry.commands)}
     assert {k for k, allow in declared.items() if allow == USER} == {
-        "quit", "writeconfig", "recover", "ui.open", "ui.save", "ui.saveas"}
+        "quit", "writeconfig", "recover", "ui.open", "ui.openfolder", "ui.save", "ui.saveas"}
     assert set(declared.values()) == {USER, SCRIPTS}
 
 

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from app.commands import volume
+from app.commands import volume, volume_labels
 from app.console.console import Console
 from app.console.demo import VirtualClock
 from app.console.registry import CommandError
@@ -214,5 +214,7 @@ def test_a_command_is_a_function_that_runs_alone():
 def test_every_declared_command_is_registered_in_the_workspace(editor):
     registry = editor.console.registry
     scoped = {key for key in registry.commands if key.startswith("volume:")}
-    assert scoped == {f"volume:{d.name}" for d in volume.COMMANDS.declared}
-    assert len(scoped) == 31  # as many as the closure registered: none lost in the move
+    assert scoped == {f"volume:{d.name}" for d in volume.COMMANDS.declared + volume_labels.COMMANDS.declared}
+    # as many as the closure registered (none lost in the move), vol.spacing, vol.iso, vol.opacity (.preview, .reset)
+    # and vol.preset
+    assert len(volume.COMMANDS.declared) == 37

@@ -12,10 +12,12 @@ from app.views.main_window import MainWindow
 from tests.window_frames import frame_image, wait_until_drawn
 
 NAMES = [info.name for info in WORKSPACES]
-# The clouds' picture depends on their clock and, through jitter, TAA and reprojection, on how many frames
+# The clouds' picture depends on their clock and, through jitter, TAA, reprojection and automatic exposure
+# (adapting over frames), on how many frames
 # were drawn before (the frame index picks the noise and the pixels traced): stopped for comparable frames.
-STILL = ("clouds.set time_scale 0", "r_cloudJitter 0", "r_cloudTAA 0", "r_cloudReproject 0")
+STILL = ("clouds.set time_scale 0", "r_cloudJitter 0", "r_cloudTAA 0", "r_cloudReproject 0", "r_cloudAutoExposure 0")
 SIZE = (760, 520)
+VIEW = (380, 300)
 
 
 def every_ordered_pair(names: list[str]) -> list[str]:
@@ -41,6 +43,9 @@ def open_window(qtbot, first: str | None = None) -> MainWindow:
     editor.documents.confirm = None
     qtbot.addWidget(window)
     window.resize(*SIZE)
+    # one picture size in every window: what is compared is what a workspace draws after another, not how the
+    # docks of the workspaces shown before share the window (the console's height can drift by a pixel or two)
+    window.viewport.setFixedSize(*VIEW)
     window.show()
     qtbot.waitExposed(window)
     wait_until_drawn(window, qtbot, timeout_ms=60000)

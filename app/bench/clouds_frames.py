@@ -140,7 +140,10 @@ class CloudState:
         self.draw(scene, settings, size)
 
     def image(self, size: tuple[int, int]) -> np.ndarray:
-        self.output = self.target(size).read()[..., :3].astype(np.float64)
+        """The last frame's linear radiance (before its tone map), top row first: what the CPU reference renders."""
+        hdr = self.renderer.last_hdr
+        assert hdr.size == tuple(size), "image() reads the frame last drawn, at its size"
+        self.output = np.frombuffer(hdr.read(), dtype="f4").reshape(size[1], size[0], 4)[::-1, :, :3].astype(np.float64)
         return self.output
 
     def samples(self, scene: CloudScene, settings: CloudRenderSettings, size: tuple[int, int]

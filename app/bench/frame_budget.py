@@ -13,7 +13,7 @@ import io
 import statistics
 import time
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -58,9 +58,12 @@ def _percentiles(values: list[float]) -> tuple[float, float, float]:
 class _Workspace:
     """One workspace's frames through the host the viewport uses, timed as the viewport times them."""
 
-    def __init__(self, ctx, editor: Editor, name: str, size: tuple[int, int], budget_ms: float) -> None:
+    def __init__(self, ctx, editor: Editor, name: str, size: tuple[int, int], budget_ms: float,
+                 setup: Sequence[str] = ()) -> None:
         self.ctx, self.editor, self.name, self.budget_ms = ctx, editor, name, budget_ms
         assert editor.execute(f"workspace {name}")
+        for line in setup:
+            assert editor.execute(line), f"{name}: {line} failed"
         RENDERERS[name].prepare()
         self.host = WorkspaceRenderer(ctx)
         self.target = OffscreenTarget(ctx, size)
@@ -92,10 +95,11 @@ class _Workspace:
 
 
 def measure(ctx, name: str, size: tuple[int, int] = DEFAULT_VIEW, budget_ms: float = 100.0, frames: int = 24,
-            learn: int = 8) -> dict:
-    """One workspace's row: `learn` interactive frames for the ladder to find its level, then `frames` timed."""
+            learn: int = 8, setup: Sequence[str] = ()) -> dict:
+    """One workspace's row: `learn` interactive frames for the ladder to find its level, then `frames` timed; on its
+    default scene, or on what the commands `setup` make of it."""
     editor = Editor(configs=False)
-    bench = _Workspace(ctx, editor, name, size, budget_ms)
+    bench = _Workspace(ctx, editor, name, size, budget_ms, setup)
     try:
         bench.settled_image()
         still, still_cpu = [], []

@@ -44,6 +44,8 @@ class Technique:
     quick_size: tuple[int, int] = (256, 256)
     quick_scenes: Sequence[str] | None = None
     extra_rows: Callable[[bool, tuple[int, int], int, Callable[[str], None]], list] | None = None  # peers' rows
+    # more rows drawn in the bench's own context, before the peers': (ctx, quick, size, runs, progress)
+    gl_rows: Callable[[moderngl.Context, bool, tuple[int, int], int, Callable[[str], None]], list] | None = None
     # more charts beside the technique's own: file name -> the rows (read_csv's) it charts, drawn by the cli
     charts: Callable[[list[dict]], dict[str, list[dict]]] | None = None
     # more files in the bench's output folder, after the CSV and charts: (ctx, folder, quick, rows, progress)
@@ -199,6 +201,8 @@ def run(ctx: moderngl.Context, tech: Technique, quick: bool = False, runs: int |
     finally:
         for target in targets.values():
             target.release()
+    if tech.gl_rows is not None:
+        rows += tech.gl_rows(ctx, quick, size, runs, progress)
     if tech.extra_rows is not None:
         rows += tech.extra_rows(quick, size, runs, progress)
     return rows

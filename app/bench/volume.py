@@ -5,7 +5,8 @@ user raising quality would). Each mode's reference is the CPU renderer (app/refe
 2048 steps per unit. Every row also reports the texture samples per pixel (`samples_per_px`, counted
 by the shader itself), so the distance texture's effect shows without timing noise. Two cameras:
 the Cornell box seen through its open front (where empty-space skipping pays) and coords3d from a
-corner. Table 1 is the rows at cl_steps 128: frames/s = 1000 / ms_median.
+corner. Table 1 is the rows at cl_steps 128: frames/s = 1000 / ms_median. A scalar volume's modes follow, rows
+`scalar <mode>` on a CT phantom (app/bench/volume_scalar.py), then vispy's where it is installed.
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from functools import lru_cache
 import numpy as np
 
 from app.bench.harness import Method, Technique
+from app.bench.volume_scalar import scalar_rows
 from app.gl.volume.raytracer import RayTracer, TraceSettings
 from app.gl.core.shaders import ShaderLibrary
 from app.model.camera3d import OrbitCamera
@@ -99,6 +101,8 @@ def technique(quick: bool = False) -> Technique:
         size=(128, 128),
         quick_size=(64, 64),
         quick_scenes=("cornell",) if not vispy_available() else ("cornell", "cornell grey"),
+        gl_rows=lambda ctx, quick, size, runs, progress: scalar_rows(
+            ctx, side, size, runs, QUICK_STEPS if quick else STEPS, reference_steps(side), progress),
         extra_rows=vispy_rows if vispy_available() else None,
     )
 

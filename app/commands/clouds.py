@@ -15,6 +15,7 @@ from app.console.text import number
 from app.io.clouds import scene_file as clouds_scene
 from app.io.clouds.scene_file import MAX_SEED, CloudScene, CloudSceneError
 from app.io.clouds.weather_image import WeatherError, load_weather
+from app.model.clouds.exposure import EV_RANGE, TONE_MAPS, ToneSettings
 from app.model.clouds.weather import resample, weather_map
 from app.model.clouds.scene import (INTEGRATIONS, MAX_ALTITUDE, PARAMS, CloudParams, CloudRenderSettings, ParamError,
                                     sun_at_hour)
@@ -67,6 +68,16 @@ def register(console: Console, state: CloudsWorkspace, checks: ArgChecks) -> Non
     reg.add_cvar(Cvar("r_cloudIntegration", str, defaults.integration,
                       "energy: exp(-sigma dt) per step (converges); seed: the seed's density-as-alpha sum",
                       choices=INTEGRATIONS, archive=True))
+    reg.add_cvar(Cvar("r_cloudFurnace", bool, defaults.furnace,
+                      "white furnace test: sky and ambient 1 everywhere, no ground (with direct 0 the clouds vanish)"))
+    tone = ToneSettings()
+    reg.add_cvar(Cvar("r_cloudExposure", float, tone.ev, "exposure in EV: +1 shows twice the light (with "
+                      "r_cloudAutoExposure, added to the automatic one)", min=EV_RANGE[0], max=EV_RANGE[1],
+                      archive=True))
+    reg.add_cvar(Cvar("r_cloudAutoExposure", bool, tone.auto, "expose for the frame's log-average luminance "
+                      "(adapting over frames while the scene stays)", archive=True))
+    reg.add_cvar(Cvar("r_cloudToneMap", str, tone.curve, "the tone curve: aces (Hill's fit), agx or clamp (the "
+                      "seed's look: clamped, no sRGB encoding)", choices=TONE_MAPS, archive=True))
     state.files = SceneFiles(partial(load, ctx), partial(save, ctx), (".json",), clouds_scene.FORMAT,
                              new=partial(clouds_reset, ctx))
     COMMANDS.register(reg, ctx, checks)
@@ -257,6 +268,8 @@ def render_settings(console: Console, state: CloudsWorkspace) -> CloudRenderSett
     cvars = console.registry.cvars
     return CloudRenderSettings(
         steps=cvars["r_cloudSteps"].value, downsample=cvars["r_cloudDownsample"].value,
-        integration=cvars["r_cloudIntegration"].value,
+        integration=cvars["r_cloudIntegration"].value, furnace=bool(cvars["r_cloudFurnace"].value),
+        tone=ToneSettings(cvars["r_cloudExposure"].value, cvars["r_cloudAutoExposure"].value,
+                          cvars["r_cloudToneMap"].value),
         **{field: bool(cvars[name].value) for name, field, _label, _text in SWITCHES})
 

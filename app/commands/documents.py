@@ -59,12 +59,14 @@ class Documents:
 
     def save_path(self, state: Workspace) -> str | None:
         """Where a plain Save writes: the scene's file, unless it is untitled or one of the shipped resources
-        (a sample opened and edited is saved as a new file, never over the sample), or the scene was recovered
+        (a sample opened and edited is saved as a new file, never over the sample), or of a format the workspace
+        reads but does not write (a DICOM folder, a NIfTI file: Save asks where), or the scene was recovered
         from an autosave and not saved since (the file an autosave names is asked about, never written unasked), or
         a script named it (then Save asks where, as Save As does: state a script set is never used with the user's
         trust unasked)."""
         path = self.path(state)
-        return None if path is None or shipped(path) or self.recovered(state) or self.named_by_script(state) else path
+        return None if path is None or shipped(path) or self.recovered(state) or self.named_by_script(state) or (
+            state.files is not None and not state.files.writes(path)) else path
 
     def named_by_script(self, state: Workspace) -> bool:
         return self._documents[state.name].by_script
@@ -130,7 +132,9 @@ class Documents:
         """The workspace whose files `path` is: by its suffix, and for a suffix several share (.json) by the
         "format" the file names; else CommandError."""
         suffix = Path(path).suffix.lower()
-        states = [s for s in self.workspaces if s.files is not None and suffix in s.files.suffixes]
+        states = [s for s in self.workspaces if s.files is not None and s.files.suffix(path) is not None]
+        if not states:  # a folder, or a file of no listed suffix, that a workspace knows as its own
+            states = [s for s in self.workspaces if s.files is not None and s.files.claims and s.files.claims(path)]
         if len(states) > 1:
             try:
                 name = format_name(path)
@@ -147,6 +151,12 @@ class Documents:
     def suffixes(self) -> tuple[str, ...]:
         """Every suffix some workspace's files have."""
         return tuple(sorted({x for state in self.workspaces if state.files is not None for x in state.files.suffixes}))
+
+    def written_suffixes(self) -> tuple[str, ...]:
+        """The suffixes some workspace writes (those of `suffixes` not only read, and those of the files it writes
+        beside them): what a snapshot, or a file beside it, may end in."""
+        return tuple(sorted({x for state in self.workspaces if state.files is not None
+                             for x in (*state.files.suffixes, *state.files.beside) if x not in state.files.read_only}))
 
     def track(self) -> None:
         """Each workspace's own verbs that replace its scene (SceneFiles.replacing) ask first and leave it
@@ -168,8 +178,9 @@ class Documents:
         handler = command.handler
 
         def tracked(*args) -> None:
-            if ask:
-                self.may_replace(state, join([verb, *map(str, args)]))
+            if ask:  # a variadic argument is a list of words
+                self.may_replace(state, join([verb, *(str(w) for a in args for w in (a if isinstance(a, list) else
+                                                                                     [a]))]))
             path = handler(*args)
             self.named(state, path if titled else None)
             if ask and titled:  # a load verb

@@ -18,8 +18,8 @@ from app.io.lights3d_scene import Lights3DSceneError
 from app.model.lights3d.scene import (LIGHT_KINDS, OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES, Light3D, Lights3DCamera,
                                       Scene3D, default_scene, new_object)
 from app.model.lights3d.placement import ground_spot
-from app.model.lights3d.render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS,
-                                                Lights3DRenderSettings)
+from app.model.lights3d.render_settings import (DEBUG_VIEWS, MAX_BIAS, MAX_CASCADES, MAX_MAP_SIZE, MIN_MAP_SIZE,
+                                                PCF_KERNELS, Lights3DRenderSettings)
 from app.model.lights3d.workspace import ITEM_KINDS, Lights3DWorkspace
 from app.model.history import setting_name
 from app.model.workspace import SceneFiles
@@ -84,6 +84,8 @@ def register(console: Console, state: Lights3DWorkspace, checks: ArgChecks) -> N
                       choices=PCF_KERNELS, archive=True))
     reg.add_cvar(Cvar("r_shadowBias", float, defaults.bias, "3D lights: shadow map depth bias (of 0..1 depth; "
                       "more on slopes)", min=0.0, max=MAX_BIAS, archive=True))
+    reg.add_cvar(Cvar("r_shadowCascades", int, defaults.cascades, "3D lights: a directional light's shadow maps, "
+                      "each over a slice of the view's depths", min=1, max=MAX_CASCADES, archive=True))
     reg.add_cvar(Cvar("r_shadowDebug", str, defaults.debug, "3D lights: a debug view instead of the lit scene",
                       choices=DEBUG_VIEWS))
     state.files = SceneFiles(partial(load, ctx), lambda path: lights3d_scene.save(path, state.scene), (".json",),
@@ -323,4 +325,5 @@ def light_list(ctx: Ctx) -> None:
 def render_settings(console: Console, state: Lights3DWorkspace) -> Lights3DRenderSettings:
     cvars = console.registry.cvars
     return Lights3DRenderSettings(map_size=cvars["r_shadowMapSize"].value, pcf=cvars["r_shadowPCF"].value,
-                                  bias=cvars["r_shadowBias"].value, debug=cvars["r_shadowDebug"].value)
+                                  bias=cvars["r_shadowBias"].value, cascades=cvars["r_shadowCascades"].value,
+                                  debug=cvars["r_shadowDebug"].value)

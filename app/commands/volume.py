@@ -14,16 +14,24 @@ from app.console.command_set import CommandSet, Context
 from app.console.console import Console
 from app.console.demo import ArgChecks
 from app.console.registry import SCRIPTS, CommandError, Cvar
-from app.io.volume_formats import (SCALAR_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES, FormatError, read_volume_file,
-                                   write_volume)
+from app.commands import volume_labels
+from app.commands.volume_args import check_axis as _axis, check_brush, check_rgba as _rgba, round_brush
+from app.commands.volume_args import check_tolerance as _tolerance, stroke_points as _points
+from app.io.volume_formats import (READ_ONLY, SCALAR_SUFFIXES, SPACING_SUFFIXES, SUPPORTED, WINDOW_SUFFIXES,
+                                   FormatError, is_volume_source, read_dicom_files, read_volume_file,
+                                   suffix_of, write_volume)
+from app.io.volume_labels import LABELS_SUFFIX
 from app.model.camera3d import OrbitCamera
 from app.model.volume import voxels as voxels_model
-from app.model.volume.painting import MAX_COORD
+from app.model.volume.labels import Labels
 from app.model.volume.render_modes import LIGHTS, MODES, TraceSettings
 from app.model.volume.samples import SAMPLES, make
-from app.model.volume.scalars import (COLORMAPS, PERCENTILES, TransferFunction, check_colormap, check_window,
-                                      default_window, value_range)
-from app.model.volume.voxels import AXES, MAX_SIDE, transparent
+from app.model.volume.scalar_modes import ISO_MODE, MIP_ATTENUATION, SCALAR_DEFAULT, SCALAR_MODES
+from app.console.text import count, number
+from app.model.volume.scalars import (COLORMAPS, PERCENTILES, OpacityPoints, TransferFunction, check_colormap,
+                                      check_opacity_points, check_window, default_window, value_range)
+from app.model.volume.transfer_presets import PRESETS, check_preset
+from app.model.volume.voxels import AXES, DEFAULT_SPACING, Spacing, VolumeError, check_spacing, transparent
 from app.model.volume.workspace import VolumeWorkspace
 from app.model.workspace import SceneFiles
 
@@ -39,39 +47,16 @@ TRACER_CVARS = (
 QUALITY_LADDER = (32, 64, 128, 256, 512)
 
 
-def _rgba(r: int, g: int, b: int, a: int) -> tuple[int, int, int, int]:
-    rgba = (r, g, b, a)
-    if not all(0 <= c <= 255 for c in rgba):
-        raise CommandError(f"colour components must be 0..255, got {' '.join(map(str, rgba))}")
-    return rgba
-
-
-def _axis(axis: str) -> str:
-    if axis not in AXES:
-        raise CommandError(f"axis must be x, y or z, got {axis!r}")
-    return axis
-
-
-def _tolerance(tolerance: int) -> int:
-    if not 0 <= tolerance <= 255:
-        raise CommandError(f"fill tolerance must be within 0..255, got {tolerance}")
-    return tolerance
-
-
-def _points(coords: list[int]) -> list[tuple[int, int]]:
-    if not coords or len(coords) % 2:
-        raise CommandError("give the stroke's points as x1 y1 [x2 y2 ...]")
-    if max(map(abs, coords)) > MAX_COORD:
-        raise CommandError(f"stroke points must be within -{MAX_COORD}..{MAX_COORD}")
-    return list(zip(coords[0::2], coords[1::2]))
-
-
 def _window_text(transfer: TransferFunction) -> str:
     return _span(transfer.low, transfer.high)
 
 
 def _span(low: float, high: float) -> str:
     return f"{low:g}..{high:g}"
+
+
+def _spacing_text(spacing: Spacing) -> str:
+    return " ".join(f"{s:g}" for s in spacing)
 
 
 def _switched(current: bool, on: int | None) -> bool:
@@ -91,14 +76,26 @@ def register(console: Console, state: VolumeWorkspace, checks: ArgChecks) -> Non
     reg.add_cvar(Cvar("brush_size", int, 1, "Brush size in voxels (keys 1-4)", min=1, max=64, archive=True))
     reg.add_cvar(Cvar("fill_tolerance", int, 0, "The painter's fill takes in voxels whose every channel is within "
                       "this of the clicked one's (0: one exact colour)", min=0, max=255, archive=True))
+    volume_labels.add_cvars(reg)
+    mode = Cvar("r_scalarMode", str, "colour", "How a scalar volume is drawn: " + ", ".join(SCALAR_MODES) + " (colour: "
+                "the F-modes, on the window's colours); a scalar volume opens in " + SCALAR_DEFAULT,
+                choices=SCALAR_MODES)
+    mode.on_change.append(partial(_scalar_mode_changed, ctx))
+    reg.add_cvar(mode)
+    reg.add_cvar(Cvar("r_mipAttenuation", float, MIP_ATTENUATION, "attenuated_mip: how fast the values behind a "
+                      "bright one fade, per voxel of window-high value passed (vispy's attenuation)", min=0.0,
+                      max=10.0, archive=True))
     console.batch_listeners.append(ScriptSteps(state))
     # scene.load and scene.save in this workspace are load and save; a demo's snapshot is an .r3 (an .npy of a
-    # scalar volume); an autosave of a scalar volume keeps its window in a .nrrd; File > New makes an empty volume
-    # of the same size
+    # scalar volume, its labels beside it); an autosave of a scalar volume keeps its window in a .nrrd; File > New
+    # makes an empty volume of the same size
     state.files = SceneFiles(partial(load, ctx), partial(write, ctx), (".r3", *(s for s in SUPPORTED if s != ".r3")),
                              new=partial(new_same_size, ctx), replacing=("new", "sample"), verbs=("load", "save"),
-                             keeping=partial(kept_suffix, ctx))
+                             keeping=partial(kept_suffix, ctx), read_only=READ_ONLY,
+                             claims=partial(is_volume_source, max_bytes=voxels_model.MAX_BYTES),
+                             beside=(LABELS_SUFFIX,))
     COMMANDS.register(console.registry, ctx, checks)
+    volume_labels.COMMANDS.register(console.registry, ctx, checks)
 
 
 class ScriptSteps:
@@ -120,40 +117,37 @@ class ScriptSteps:
 
 
 def _replace(ctx: Ctx, data: np.ndarray, what: str, step: str, transfer: TransferFunction | None = None,
-             loaded: bool = True) -> None:
+             loaded: bool = True, spacing: Spacing | None = None, notes: tuple[str, ...] = (),
+             labels: Labels | None = None) -> None:
     """An RGBA volume, or the scalars of a 16-bit or float file, coloured through `transfer` (the file's) or
-    the default window, as the undo step `step`. `data` is the command's own (a fresh array) to hand over.
-    A loaded volume (a file, a sample) opens the painter on its middle slice; a new one keeps the slice."""
+    the default window, with `labels` over them (its labels file's), as the undo step `step`, its voxels
+    `spacing` apart (1 1 1 if None). `data` is the command's own (a fresh array) to hand over. A loaded volume
+    (a file, a sample) opens the painter on its middle slice; a new one keeps the slice. `notes`: what the reader
+    says of the file."""
     state, volume = ctx.state, ctx.state.volume
+    spacing = spacing or DEFAULT_SPACING
     if data.ndim == 3:
-        volume.replace_scalars(data, transfer, name=step, copy=False)
+        volume.replace_scalars(data, transfer, name=step, copy=False, spacing=spacing, labels=labels)
     else:
-        volume.replace(data, step)
+        volume.replace(data, step, spacing)
+    state.view.iso = None  # the new values' window middle
+    mode = ctx.console.registry.cvars.get("r_scalarMode")  # a bare context (a command run alone) has no cvars
+    if mode is not None:
+        mode.set(SCALAR_DEFAULT if volume.voxels.scalars is not None else "colour", trusted=ctx.console.trusted)
     if loaded:
         state.middle_slice()
     else:
         state.clamp_slice()
-    ctx.console.print(f"{what}: {'x'.join(map(str, volume.voxels.size))}")
+    shown = "" if spacing == DEFAULT_SPACING else f", spacing {_spacing_text(spacing)}"
+    ctx.console.print(f"{what}: {'x'.join(map(str, volume.voxels.size))}{shown}")
+    for note in notes:
+        ctx.console.print(f"  {note}")
     if (scalars := volume.voxels.scalars) is not None:
         chosen = ("kept in the file" if transfer is not None else
                   "percentiles {:g}..{:g} of the values above the minimum".format(*PERCENTILES))
         ctx.console.print(f"{scalars.values.dtype} scalars, window {_window_text(scalars.transfer)} ({chosen}), "
-                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it")
-
-
-def _edit(ctx: Ctx, change, *args, **kwargs) -> None:
-    """A voxel edit; on a scalar volume it bakes the window into the colours, which the user should know."""
-    volume = ctx.state.volume
-    scalars = volume.voxels.scalars
-    change(*args, **kwargs)
-    if scalars is None or volume.voxels.scalars is not None:
-        return
-    if volume.history.undo_depth:  # the edit's step, holding the scalars
-        ctx.console.print("the edit baked the window into the colours: the scalars are set aside; undo it to "
-                          "change the window again")
-    else:
-        ctx.console.print(f"the edit baked the window into the colours, and the scalars ({scalars.nbytes >> 20} MiB) "
-                          "do not fit the undo history: load the file again to window it")
+                          f"{scalars.transfer.colormap}; vol.window and vol.colormap change it; drawn as "
+                          f"{SCALAR_DEFAULT} (r_scalarMode; vol.iso VALUE draws a surface)")
 
 
 def volume_files(ctx: Ctx, prefix: str) -> list[str]:
@@ -170,16 +164,33 @@ def new_same_size(ctx: Ctx) -> None:
     new(ctx, *ctx.state.volume.voxels.size)
 
 
-@COMMANDS.command("load", "path", "Open a 3D raster image (.r3, name_%i.png series, .npy, .tif, .nrrd; 16-bit and "
-                  "float ones through a window)", completer=volume_files, allow=SCRIPTS)
-def load(ctx: Ctx, path: str) -> str:
+@COMMANDS.command("load", "path [more...]", "Open a 3D raster image (.r3, name_%i.png series, .npy, .npz, .tif, "
+                  ".nrrd, .nii, .nii.gz, DICOM: a series' folder or files; 16-bit and float ones through a window); "
+                  "`load FILE.npz NAME` opens one of the file's arrays, `load FILE FILE...` the files of one DICOM "
+                  "series", completer=volume_files, allow=SCRIPTS)
+def load(ctx: Ctx, path: str, more: list[str] | None = None) -> str:
+    more = more or []
     found = files.find(path, ctx.console) if "%" not in path else None  # a series names its slices
     source = found or files.readable(ctx.console, path)
-    try:
-        read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES)  # the model's limit, before reading
+    if source.is_dir():  # a DICOM series: its files lie below the folder, which a script may read only in its places
+        files.readable(ctx.console, str(source / "*"))
+    npz = suffix_of(source) == ".npz"
+    if npz and len(more) > 1:
+        raise CommandError(f"an .npz file's array is chosen by one name: load {path} NAME")
+    try:  # the model's limit, before reading
+        if more and not npz:
+            others = [files.readable(ctx.console, name) for name in more]
+            read = read_dicom_files([source, *others], max_bytes=voxels_model.MAX_BYTES)
+        else:
+            read = read_volume_file(source, max_bytes=voxels_model.MAX_BYTES, array=more[0] if more else None)
     except FormatError as exc:
         raise CommandError(str(exc)) from None
-    _replace(ctx, read.data, f"loaded {source}", "Load Volume", read.transfer)
+    labels = volume_labels.beside(ctx, source, read.data.shape) if read.data.ndim == 3 else None
+    what = f"loaded {source}" + (f" and {len(more)} more" if more and not npz else "")
+    _replace(ctx, read.data, what, "Load Volume", read.transfer, spacing=read.spacing, notes=read.notes,
+             labels=labels)
+    if labels is not None:
+        volume_labels.say_loaded(ctx, source)
     return str(source)
 
 
@@ -197,15 +208,17 @@ def write(ctx: Ctx, path: str) -> None:
     voxels = ctx.state.volume.voxels
     try:
         if _as_scalars(ctx, path):
-            write_volume(path, voxels.scalars.values, voxels.scalars.transfer)
+            write_volume(path, voxels.scalars.values, voxels.scalars.transfer, spacing=voxels.spacing)
+            volume_labels.write_beside(voxels.labels, path)
         else:
-            write_volume(path, voxels.data)
+            write_volume(path, voxels.data, spacing=voxels.spacing)
     except FormatError as exc:
         raise CommandError(str(exc)) from None
 
 
 @COMMANDS.command("save", "path", "Save the 3D raster image (format from the name; atomically); a scalar volume "
-                  "saves its scalars to .npy, .nrrd and .tif, its colours to .r3 and image series", recorded=False,
+                  "saves its scalars to .npy, .nrrd and .tif (and its labels beside them, name.seg.nrrd), its "
+                  "colours to .r3 and image series", recorded=False,
                   completer=volume_files, allow=SCRIPTS)
 def save(ctx: Ctx, path: str) -> str:
     target = files.writable(ctx.console, path)
@@ -213,7 +226,11 @@ def save(ctx: Ctx, path: str) -> str:
         write(ctx, target)
     except OSError as exc:
         raise CommandError(str(exc)) from None
-    scalars, say = ctx.state.volume.voxels.scalars, ctx.console.print
+    voxels, say = ctx.state.volume.voxels, ctx.console.print
+    scalars = voxels.scalars
+    if voxels.spacing != DEFAULT_SPACING and suffix_of(target) not in SPACING_SUFFIXES:
+        say(f"the spacing {_spacing_text(voxels.spacing)} is not kept in {target.name} "
+            f"({', '.join(SPACING_SUFFIXES)} keeps it)")
     if scalars is None:
         say(f"saved {target}")
     elif target.suffix.lower() in WINDOW_SUFFIXES:
@@ -225,6 +242,7 @@ def save(ctx: Ctx, path: str) -> str:
     else:
         say(f"saved {target}: the colours of window {_window_text(scalars.transfer)} (the scalars "
             "are not kept in the file)")
+    volume_labels.say_saved(ctx, target, _as_scalars(ctx, target))
     return str(target)
 
 
@@ -259,26 +277,24 @@ def voxel_args(ctx: Ctx, x: int, y: int, z: int, r: int, g: int, b: int, a: int)
 
 @COMMANDS.command("voxel", "x:int y:int z:int r:int g:int b:int a:int", "Set one voxel", allow=SCRIPTS)
 def voxel(ctx: Ctx, *args: int) -> None:
-    _edit(ctx, ctx.state.volume.paint.set_voxel, *voxel_args(ctx, *args))
+    ctx.state.volume.paint.set_voxel(*voxel_args(ctx, *args))
 
 
 @COMMANDS.check("stroke", "volume")
 def stroke_args(ctx: Ctx, axis, index, size, r, g, b, a, coords):
-    ctx.state.volume.voxels.slice(_axis(axis), index)  # refuses an index past the depth
-    if not 1 <= size <= MAX_SIDE:
-        raise CommandError(f"brush size must be within 1..{MAX_SIDE}, got {size}")
+    check_brush(ctx.state.volume.voxels, axis, index, size)
     return axis, index, size, _rgba(r, g, b, a), _points(coords)
 
 
 def _round_brush(ctx: Ctx) -> bool:
-    return ctx.console.registry.cvars["brush_round"].value
+    return round_brush(ctx.console)
 
 
 @COMMANDS.command("stroke", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
                   "Paint a gap-free brush stroke through the points x1 y1 [x2 y2 ...] of a slice (a = 0 erases)",
                   allow=SCRIPTS)
 def stroke(ctx: Ctx, *args) -> None:
-    _edit(ctx, ctx.state.volume.paint.stroke, *stroke_args(ctx, *args), round_brush=_round_brush(ctx))
+    ctx.state.volume.paint.stroke(*stroke_args(ctx, *args), round_brush=_round_brush(ctx))
 
 
 @COMMANDS.command("stroke.preview", "axis slice:int size:int r:int g:int b:int a:int coords:int...",
@@ -301,10 +317,9 @@ def fill_args(ctx: Ctx, axis: str, index: int, u: int, v: int, r: int, g: int, b
 
 @COMMANDS.command("fill", "axis slice:int x:int y:int r:int g:int b:int a:int [tolerance:int]",
                   "Flood-fill the region around (x, y) within a slice whose every channel is within tolerance "
-                  "(0..255, default 0: one exact colour) of the colour at (x, y); on a scalar volume, of the "
-                  "window's colours", allow=SCRIPTS)
+                  "(0..255, default 0: one exact colour) of the colour at (x, y)", allow=SCRIPTS)
 def fill(ctx: Ctx, *args) -> None:
-    _edit(ctx, ctx.state.volume.paint.fill, *fill_args(ctx, *args))
+    ctx.state.volume.paint.fill(*fill_args(ctx, *args))
 
 
 @COMMANDS.check("rotate")
@@ -325,7 +340,7 @@ def rotate(ctx: Ctx, axis: str) -> None:
 
 @COMMANDS.command("smooth", "", "Smooth the volume with a 3x3x3 box filter (key m)", allow=SCRIPTS)
 def smooth(ctx: Ctx) -> None:
-    _edit(ctx, ctx.state.volume.paint.smooth)
+    ctx.state.volume.paint.smooth()
 
 
 @COMMANDS.check("pick", "volume")
@@ -333,10 +348,15 @@ def picked(ctx: Ctx, x: int, y: int, z: int) -> tuple[int, int, int, int]:
     return ctx.state.volume.voxels.pick(x, y, z)
 
 
-@COMMANDS.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour", allow=SCRIPTS)
+@COMMANDS.command("pick", "x:int y:int z:int", "Eyedropper: make the voxel's colour the brush colour (on a scan, "
+                  "its label the brush label)", allow=SCRIPTS)
 def pick(ctx: Ctx, x: int, y: int, z: int) -> None:
     view = ctx.state.view
-    view.brush = picked(ctx, x, y, z)
+    colour = picked(ctx, x, y, z)
+    if ctx.state.volume.voxels.labels is not None:
+        volume_labels.pick_label(ctx, x, y, z)
+        return
+    view.brush = colour
     ctx.console.print(f"brush colour {' '.join(map(str, view.brush))}")
 
 
@@ -517,6 +537,132 @@ def colormap(ctx: Ctx, name: str) -> None:
     volume.set_transfer(replaced(scalars.transfer, colormap=name))  # the model checks the name
 
 
+def _curve_text(points) -> str:
+    return " ".join(f"{number(v)} {number(a)}" for v, a in points)
+
+
+@COMMANDS.check("vol.opacity")
+def opacity_args(ctx: Ctx, numbers: list[float] | None = None) -> OpacityPoints | None:
+    if not numbers:
+        return None
+    if len(numbers) % 2:
+        raise CommandError("give the opacity curve as pairs, value opacity: v0 a0 [v1 a1 ...]; got "
+                           + count(len(numbers), "number"))
+    return check_opacity_points(zip(numbers[0::2], numbers[1::2]))
+
+
+def _translucent_note(ctx: Ctx) -> None:
+    mode = ctx.console.registry.cvars.get("r_scalarMode")
+    if mode is not None and mode.value != "translucent":
+        ctx.console.print(f"the opacity curve draws in r_scalarMode translucent (now {mode.value})")
+
+
+@COMMANDS.command("vol.opacity", "[points:float...]", "Show or set a scalar volume's opacity curve, the translucent "
+                  "mode's: pairs of value (data units, increasing) and opacity per voxel of ray (0..1), linear between "
+                  "them and constant beyond the ends; vol.opacity.reset goes back to the ramp over the window",
+                  allow=SCRIPTS)
+def opacity(ctx: Ctx, numbers: list[float] | None = None) -> None:
+    points = opacity_args(ctx, numbers)
+    volume = ctx.state.volume
+    transfer = volume.voxels.require_scalars().transfer
+    if points is None:
+        own = "set" if transfer.points is not None else "the ramp over the window, until one is set"
+        ctx.console.print(f"opacity {_curve_text(transfer.opacity())} ({own})")
+    elif volume.set_transfer(replaced(transfer, points=points), "Set Opacity"):
+        _translucent_note(ctx)
+
+
+@COMMANDS.command("vol.opacity.preview", "points:float...", "Show an opacity curve being dragged in the transfer "
+                  "function editor until the next edit; not recorded (vol.opacity sets it)", recorded=False, quiet=True,
+                  allow=SCRIPTS)
+def opacity_preview(ctx: Ctx, numbers: list[float]) -> None:
+    points = opacity_args(ctx, numbers)
+    volume = ctx.state.volume
+    if points is None:
+        raise CommandError("give the curve to show: v0 a0 [v1 a1 ...]")
+    volume.preview_transfer(replaced(volume.voxels.require_scalars().transfer, points=points))
+
+
+@COMMANDS.command("vol.opacity.reset", "", "Set a scalar volume's opacity curve back to the ramp over the window "
+                  "(0 at low to 1 at high), what a scan opens with", allow=SCRIPTS)
+def opacity_reset(ctx: Ctx) -> None:
+    volume = ctx.state.volume
+    volume.set_transfer(replaced(volume.voxels.require_scalars().transfer, points=None), "Reset Opacity")
+
+
+@COMMANDS.check("vol.preset")
+def preset_name(ctx: Ctx, name: str) -> str:
+    check_preset(name)
+    return name
+
+
+def preset_names(ctx: Ctx, prefix: str) -> list[str]:
+    return [p for p in PRESETS if p.startswith(prefix)]
+
+
+@COMMANDS.command("vol.preset", "name", "Set a scalar volume's window, colour map and opacity curve at once, as 3D "
+                  "Slicer's volume-rendering presets: " + ", ".join(PRESETS),
+                  completer=preset_names, allow=SCRIPTS)
+def preset(ctx: Ctx, name: str) -> None:
+    chosen = PRESETS[preset_name(ctx, name)]
+    volume = ctx.state.volume
+    transfer = chosen.transfer(volume.voxels.require_scalars().values)
+    volume.set_transfer(transfer, f"Preset {chosen.title}")
+    ctx.console.print(f"{chosen.title}: window {_window_text(transfer)}, {transfer.colormap}, opacity "
+                      f"{_curve_text(transfer.points)}")
+    _translucent_note(ctx)
+
+
+@COMMANDS.check("vol.spacing")
+def spacing_args(ctx: Ctx, sides: list[float] | None = None) -> Spacing | None:
+    if not sides:
+        return None
+    if len(sides) != 3:
+        raise CommandError("give the spacing as three sides, sx sy sz, or none to show it")
+    try:
+        return check_spacing(*sides)
+    except VolumeError as exc:
+        raise CommandError(str(exc)) from None
+
+
+@COMMANDS.command("vol.spacing", "[sides:float...]", "Show or set the voxels' spacing, sx sy sz (x, y, z; in the "
+                  "file's unit, mm for scans): the box and the painter take the volume's physical shape; files "
+                  "give it where they state it", allow=SCRIPTS)
+def spacing(ctx: Ctx, sides: list[float] | None = None) -> None:
+    chosen = spacing_args(ctx, sides)
+    voxels = ctx.state.volume.voxels
+    if chosen is None:
+        w, h, d = voxels.size
+        sx, sy, sz = voxels.spacing
+        ctx.console.print(f"spacing {_spacing_text(voxels.spacing)}: the volume is {w * sx:g} x {h * sy:g} x "
+                          f"{d * sz:g}")
+    else:
+        ctx.state.volume.set_spacing(chosen)
+
+
+def _scalar_mode_changed(ctx: Ctx, cvar: Cvar) -> None:
+    if cvar.value != "colour" and ctx.state.volume.voxels.scalars is None:
+        ctx.console.print(f"r_scalarMode {cvar.value}: this volume has no scalars, so the F-modes draw its colours "
+                          "(load a 16-bit or float file)")
+
+
+@COMMANDS.command("vol.iso", "[value:float]", "Show or set a scalar volume's iso value (data units) and draw the "
+                  "surface where the values first exceed it (r_scalarMode iso; lit as F5)", allow=SCRIPTS)
+def iso(ctx: Ctx, value: float | None = None) -> None:
+    scalars = ctx.state.volume.voxels.scalars
+    if value is None:
+        chosen = "set" if ctx.state.view.iso is not None else "the window's middle"
+        of = (f"of {scalars.values.dtype} scalars {_span(*value_range(scalars.values))}" if scalars is not None
+              else "(this volume has no scalars)")
+        ctx.console.print(f"iso {ctx.state.iso_value():g} ({chosen}) {of}")
+        return
+    ctx.state.view.iso = value
+    ctx.console.registry.cvars["r_scalarMode"].set(ISO_MODE, trusted=ctx.console.trusted)  # says so without scalars
+    if scalars is not None and not value < value_range(scalars.values)[1]:
+        ctx.console.print(f"no value exceeds {value:g} (the greatest is {value_range(scalars.values)[1]:g}): "
+                          "there is no surface to draw")
+
+
 @COMMANDS.check("vol.background")
 def background_rgba(ctx: Ctx, r: int, g: int, b: int) -> tuple[int, int, int, int]:
     return _rgba(r, g, b, 255)
@@ -532,4 +678,7 @@ def render_settings(console: Console, state: VolumeWorkspace) -> TraceSettings:
     cvars, view = console.registry.cvars, state.view
     return TraceSettings(mode=view.mode, steps=cvars["cl_steps"].value, shadow_steps=cvars["cl_shadowSteps"].value,
                          sample_range=cvars["cl_sampleRange"].value, distance_scale=cvars["cl_distanceScale"].value,
-                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]))
+                         shadows=view.shadows, lights=(view.light, *LIGHTS[1:]),
+                         scalar_mode=cvars["r_scalarMode"].value, iso=state.iso_value(),
+                         mip_attenuation=cvars["r_mipAttenuation"].value,
+                         label_opacity=cvars[volume_labels.OPACITY].value)

@@ -148,6 +148,6 @@ def complete(prefix: str, suffixes: tuple[str, ...]) -> list[str]:
                 continue
             if entry.is_dir() and folder == Path(head or "."):
                 found.add(f"{head + '/' if head else ''}{entry.name}/")
-            elif entry.suffix in suffixes:
+            elif entry.name.endswith(suffixes):  # .nii.gz as well as .nii
                 found.add(f"{head + '/' if head else ''}{entry.name}")
     return sorted(found)

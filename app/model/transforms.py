@@ -19,6 +19,18 @@ def perspective(focal: float, aspect: float, near: float, far: float) -> np.ndar
     return m
 
 
+def frustum(lo, hi, near: float, far: float) -> np.ndarray:
+    """An off-centre frustum (glFrustum): its window `lo` (x, y) .. `hi` given as tangents, the view-space
+    x / depth and y / depth its edges pass, onto the clip square; `near` and `far` the clip planes' distances."""
+    (x0, y0), (x1, y1) = lo, hi
+    m = np.zeros((4, 4))
+    m[0, 0], m[0, 2] = 2 / (x1 - x0), (x1 + x0) / (x1 - x0)
+    m[1, 1], m[1, 2] = 2 / (y1 - y0), (y1 + y0) / (y1 - y0)
+    m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
+    m[3, 2] = -1.0
+    return m
+
+
 def orthographic(lo, hi) -> np.ndarray:
     """The view-space box lo..hi onto the clip cube: (x, y, depth) corners, depth measured along -z."""
     (x0, y0, n), (x1, y1, f) = lo, hi

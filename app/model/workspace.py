@@ -7,6 +7,7 @@ app/views, app/bench): docs/architecture.md lists them."""
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 from dataclasses import dataclass
 from typing import Callable, ClassVar, Protocol
 
@@ -33,7 +34,11 @@ class SceneFiles:
     `verbs`: its own load and save verbs, if it has any besides scene.load and scene.save (the volume's
     `load` and `save`): they return the file they read or wrote, which names the scene's file as those do.
     `keeping`: the suffix of a file that keeps the scene as it stands, where that depends on the scene (a scalar
-    volume's window and colour map only go into .nrrd): its autosave takes it."""
+    volume's window and colour map only go into .nrrd): its autosave takes it.
+    `read_only`: the suffixes it reads but never writes (NIfTI, DICOM): Save asks where, as for an untitled scene.
+    `claims`: whether a path of none of its suffixes is its file all the same (a folder of DICOM slices).
+    `beside`: the suffixes of files a save may write beside the scene's, in place of its suffix (a scan's labels:
+    `ct.nrrd` -> `ct.seg.nrrd`): a demo's snapshot has them beside it too."""
     load: Callable[[str], str]
     save: Callable[[str], None]
     suffixes: tuple[str, ...]
@@ -42,9 +47,21 @@ class SceneFiles:
     replacing: tuple[str, ...] = ()
     verbs: tuple[str, str] | None = None
     keeping: Callable[[], str] | None = None
+    read_only: tuple[str, ...] = ()
+    claims: Callable[[str], bool] | None = None
+    beside: tuple[str, ...] = ()
 
     def keeping_suffix(self) -> str:
         return self.suffixes[0] if self.keeping is None else self.keeping()
+
+    def suffix(self, path: str) -> str | None:
+        """The longest of `suffixes` that `path`'s name ends with (".nii.gz" before ".gz"), else None."""
+        name = Path(path).name.lower()
+        return max((s for s in self.suffixes if name.endswith(s)), key=len, default=None)
+
+    def writes(self, path: str) -> bool:
+        """Whether a save may go to `path`, the file its scene came from: not a format it only reads."""
+        return self.suffix(path) not in self.read_only and (self.claims is None or not self.claims(path))
 
 
 class Workspace:

@@ -17,11 +17,12 @@ import numpy as np
 
 from app.model.clouds import scene as cm
 from app.model.clouds.scene import CloudParams, CloudTextures, CloudView, Frame
+from app.reference import clouds_sky
 from app.reference.clouds_medium import (CENTRE, R0, R1, density, f64, height, hg, light, light_lookups, phase,
-                                         sample2d, sample3d, weather)
+                                         powder, sample2d, sample3d, sun_energy, weather)
 
 __all__ = ["Image", "render", "sample2d", "sample3d", "ray_directions", "segment", "density", "light", "hg",
-           "phase", "march", "cirrus", "background", "steps_for", "height"]
+           "phase", "sun_energy", "powder", "march", "cirrus", "background", "steps_for", "height"]
 
 R = cm.PLANET_RADIUS
 RC = cm.PLANET_RADIUS + cm.CIRRUS_ALTITUDE
@@ -35,7 +36,7 @@ BLOCK = 1 << 16                         # (ray, step) samples evaluated at once
 
 @dataclass
 class Image:
-    rgb: np.ndarray         # (H, W, 3) final colour in 0..1, row 0 at the top
+    rgb: np.ndarray         # (H, W, 3) linear radiance, unclamped, row 0 at the top
     clouds: np.ndarray      # (H, W, 4) premultiplied clouds (layer and cirrus) before the background
     samples: np.ndarray     # (H, W) texture lookups per pixel
 
@@ -90,11 +91,12 @@ def steps_for(d: np.ndarray, steps: int) -> np.ndarray:
 
 def march(frame: Frame, textures: CloudTextures, d: np.ndarray, t0: np.ndarray, t1: np.ndarray, n: np.ndarray,
           jitter: np.ndarray | None = None, integration: str = "energy", early_exit: bool = False,
-          density_fn: Callable | None = None, light_fn: Callable | None = None
-          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+          density_fn: Callable | None = None, light_fn: Callable | None = None, depth: bool = False
+          ) -> tuple[np.ndarray, ...]:
     """(L (N, 3), alpha (N,), lookups (N,)): the clouds along N rays d from the camera, n[i] samples at
     t0 + (k + 0.5 + j) dt, dt = (t1 - t0) / n (n = 0: no samples). density_fn(p, full) -> (rho, B, lookups)
-    and light_fn(p, rho, cos) -> (S, lookups) replace the model's (tests march constant media)."""
+    and light_fn(p, rho, cos) -> (S, lookups) replace the model's (tests march constant media). `depth`: and
+    the samples' mean distance weighted by what each adds, T a (t1 where none adds), the aerial perspective's."""
     if integration not in ("energy", "seed"):
         raise ValueError(f"integration must be 'energy' or 'seed', not {integration!r}")
     if density_fn is None or light_fn is None:
@@ -110,6 +112,7 @@ def march(frame: Frame, textures: CloudTextures, d: np.ndarray, t0: np.ndarray, 
     o = np.array(frame.camera)
     radiance, transmittance = np.zeros((len(d), 3)), np.ones(len(d))
     lookups = np.zeros(len(d), dtype=np.int64)
+    distance, weight = np.zeros(len(d)), np.zeros(len(d))
     alive = n > 0
     k0 = 0
     while True:
@@ -135,10 +138,16 @@ def march(frame: Frame, textures: CloudTextures, d: np.ndarray, t0: np.ndarray, 
         if lit.any():
             s[lit], extra[lit] = light_fn(p[lit], rho[lit], np.broadcast_to(cos[rays, None], valid.shape)[lit])
         radiance[rays] += (before[..., None] * s * a[..., None] * taken[..., None]).sum(1)
+        adds = np.where(taken, before * a, 0.0)
+        distance[rays] += (adds * t).sum(1)
+        weight[rays] += adds.sum(1)
         transmittance[rays] *= np.where(taken, 1 - a, 1.0).prod(1)
         lookups[rays] += np.where(taken, count + extra, 0).sum(1)
         if early_exit:
             alive[rays] &= 1 - transmittance[rays] <= EARLY_EXIT
+    if depth:
+        return radiance, 1 - transmittance, lookups, np.where(weight > 0, distance / np.where(weight > 0, weight, 1),
+                                                                 t1)
     return radiance, 1 - transmittance, lookups
 
 
@@ -158,6 +167,10 @@ def cirrus(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: np.nd
     c = np.clip(w[..., 0] - frame.high_coverage_shift, 0.0, 1.0)
     alpha = np.where(there & (c > 0), np.clip(e - 1 + c, 0.0, 1.0), 0.0)
     cos = d @ np.array(frame.sun_dir)
+    if frame.physical_sky:
+        seen = np.concatenate([clouds_sky.cirrus_light(frame, cos) * alpha[..., None], alpha[..., None]], -1)
+        return (clouds_sky.aerial_perspective(frame, clouds_sky.tables(frame), seen, d, np.where(there, t, 0.0)),
+                np.where(there, 2, 0))
     colour = np.minimum(CIRRUS_AMBIENT * np.array(frame.ambient_top)
                         + CIRRUS_SUN * np.array(frame.sun_light) * (4 * math.pi * phase(frame, cos, 1.0))[..., None],
                         CIRRUS_MAX)
@@ -166,13 +179,20 @@ def cirrus(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: np.nd
 
 def background(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray]:
-    """(rgb (N, 3), lookups (N,)): the hazed ground where the ray hits it, else the sky with the sun."""
+    """(rgb (N, 3), lookups (N,)): the hazed ground where the ray hits it, else the sky with the sun; in the
+    white furnace 1 everywhere."""
+    if frame.furnace:
+        return np.ones((len(d), 3)), np.zeros(len(d), dtype=np.int64)
     sun = np.array(frame.sun_dir)
     cos = d @ sun
     zenith, horizon, sun_light = np.array(frame.sky_zenith), np.array(frame.sky_horizon), np.array(frame.sun_light)
-    up = np.sqrt(np.maximum(d[..., 1], 0.0))[..., None]
-    sky = horizon * (1 - up) + zenith * up
-    sky = sky + SUN_GAIN * sun_light * (np.maximum(cos, 0) ** SUN_POWER)[..., None]
+    if frame.physical_sky:
+        air = clouds_sky.tables(frame)
+        sky = clouds_sky.physical_sky(frame, air, d, cos)
+    else:
+        up = np.sqrt(np.maximum(d[..., 1], 0.0))[..., None]
+        sky = horizon * (1 - up) + zenith * up
+        sky = sky + SUN_GAIN * sun_light * (np.maximum(cos, 0) ** SUN_POWER)[..., None]
     lookups = np.zeros(len(d), dtype=np.int64)
     ground = np.flatnonzero(np.isfinite(t_ground))
     if len(ground) == 0:
@@ -191,6 +211,10 @@ def background(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: n
         rho, _, count = density(frame, f64(textures), p, False)
         shadow = np.exp(-frame.extinction * (rho * step[:, None]).sum(1))
         lookups[ground] = count.sum(1)
+    if frame.physical_sky:
+        seen = np.concatenate([clouds_sky.physical_ground(frame, air, normal, shadow), np.ones((len(ground), 1))], -1)
+        sky[ground] = clouds_sky.aerial_perspective(frame, air, seen, d[ground], tg)[:, :3]
+        return sky, lookups
     lit = sun_light * (np.maximum(normal @ sun, 0) * shadow)[:, None] + (horizon + zenith) / 2
     colour = np.array(cm.GROUND_ALBEDO) * lit
     haze = (1 - np.exp(-tg / HAZE))[:, None]
@@ -200,24 +224,30 @@ def background(frame: Frame, textures: CloudTextures, d: np.ndarray, t_ground: n
 
 def render(params: CloudParams, view: CloudView, textures: CloudTextures, size: tuple[int, int] = (96, 54),
            steps: int = 256, integration: str = "energy", wind_time: float = 0.0, blend: float = 1.0,
-           early_exit: bool = False, jitter: np.ndarray | None = None) -> Image:
-    """The reference image: clouds (layer and cirrus) over the ground or sky, clamped to 0..1."""
+           early_exit: bool = False, jitter: np.ndarray | None = None, furnace: bool = False) -> Image:
+    """The reference image: clouds (layer and cirrus) over the ground or sky, as linear radiance (the GPU's HDR
+    frame before its tone map); `furnace`: in the white furnace's unit environment
+    (app.model.clouds.scene.furnace)."""
     width, height_ = size
     fr = cm.frame(params, view, wind_time, blend)
+    if furnace:
+        fr = cm.furnace(fr)
     tex = f64(textures)
     d = ray_directions(fr, width, height_).reshape(-1, 3)
     t0, t1, has, t_ground = segment(fr, d)
     n = np.where(has, steps_for(d, steps), 0)
     j = None if jitter is None else np.asarray(jitter, dtype=np.float64).reshape(-1)
-    layer_rgb, layer_a, samples = march(fr, tex, d, t0, t1, n, j, integration, early_exit)
+    layer_rgb, layer_a, samples, depth = march(fr, tex, d, t0, t1, n, j, integration, early_exit, depth=True)
     layer = np.concatenate([layer_rgb, layer_a[:, None]], -1)
+    if fr.physical_sky:
+        layer = clouds_sky.aerial_perspective(fr, clouds_sky.tables(fr), layer, d, depth)
     high, high_count = cirrus(fr, tex, d, t_ground)
     if fr.camera[1] > cm.CIRRUS_ALTITUDE:       # the cirrus in front of the layer
         clouds = high + (1 - high[:, 3:]) * layer
     else:
         clouds = layer + (1 - layer[:, 3:]) * high
     bg, bg_count = background(fr, tex, d, t_ground)
-    rgb = np.clip(clouds[:, :3] + (1 - clouds[:, 3:]) * bg, 0.0, 1.0)
+    rgb = clouds[:, :3] + (1 - clouds[:, 3:]) * bg
     samples = samples + high_count + bg_count
     return Image(rgb.reshape(height_, width, 3), clouds.reshape(height_, width, 4),
                  samples.reshape(height_, width))

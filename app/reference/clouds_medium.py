@@ -133,13 +133,43 @@ def density(frame: Frame, textures: CloudTextures, p, full: bool) -> tuple[np.nd
 
 
 def hg(cos, g):
-    """Henyey-Greenstein: (1 - g^2) / (4 pi (1 + g^2 - 2 g cos)^1.5), per steradian."""
-    return (1 - g * g) / (4 * math.pi * (1 + g * g - 2 * g * np.asarray(cos, dtype=np.float64)) ** 1.5)
+    """Henyey-Greenstein: (1 - g^2) / (4 pi (1 + g^2 - 2 g cos)^1.5), per steradian, as the shader writes it:
+    1 + g^2 - 2 g cos = (1 - |g|)^2 + 2 |g| (1 - sign(g) cos), two terms >= 0."""
+    cos, a = np.asarray(cos, dtype=np.float64), np.abs(g)
+    q = (1 - a) ** 2 + 2 * a * np.where(np.asarray(g) >= 0, 1 - cos, 1 + cos)
+    return (1 - a) * (1 + a) / (4 * math.pi * q * np.sqrt(q))
 
 
 def phase(frame: Frame, cos, scale: float):
-    """P(cos, g') = max(HG(cos, g_forward g'), HG(cos, g_back g')): the two lobes."""
-    return np.maximum(hg(cos, frame.g_forward * scale), hg(cos, frame.g_back * scale))
+    """P(cos, g') = (1 - w) HG(cos, g_forward g') + w HG(cos, g_back g'), w = back_weight: the two lobes' mix,
+    integrating to 1 over the sphere; with phase_max the seed's max(HG(cos, g_forward g'), HG(cos, g_back g'))."""
+    forward, back = hg(cos, frame.g_forward * scale), hg(cos, frame.g_back * scale)
+    if frame.phase_max:
+        return np.maximum(forward, back)
+    return _lerp(forward, back, frame.back_weight)
+
+
+def sun_energy(frame: Frame, tau, rho, cos):
+    """The sun's part of S per unit sun_light at a sample of density rho with optical depth tau towards the sun,
+    cos = d . sun: E powder. With multiscatter, Wrenninge's octaves: E = sum_k w_k 4 pi P(cos, c^k) exp(-b^k tau),
+    w_k = a^k / sum_j a^j (the weights share albedo 1); else the seed's double Beer. Powder, in [0, 1], only
+    darkens. Over the sphere of directions its mean is at most 1 (with the mixed phase)."""
+    tau, rho, cos = (np.asarray(x, dtype=np.float64) for x in (tau, rho, cos))
+    if frame.multiscatter:
+        energy, weights, a, b, c = 0.0, 0.0, 1.0, 1.0, 1.0
+        for _ in range(cm.OCTAVES):
+            energy = energy + a * 4 * math.pi * phase(frame, cos, c) * np.exp(-b * tau)
+            weights += a
+            a, b, c = a * frame.octave_scattering, b * frame.octave_extinction, c * frame.octave_eccentricity
+        energy = energy / weights
+    else:
+        energy = 4 * math.pi * phase(frame, cos, 1.0) * np.maximum(np.exp(-tau), BEER_FLOOR * np.exp(-tau * BEER_SOFT))
+    return energy * powder(rho, cos)
+
+
+def powder(rho, cos):
+    """mix(1, 1 - exp(-2 rho), (1 - cos) / 2): in [1 - exp(-2 rho), 1], a factor that only darkens (the seed's)."""
+    return _lerp(1.0, 1 - np.exp(-POWDER * np.asarray(rho, dtype=np.float64)), 0.5 - 0.5 * np.asarray(cos))
 
 
 def light_lookups(frame: Frame, textures: CloudTextures, p, rho, cos) -> tuple[np.ndarray, np.ndarray]:
@@ -166,14 +196,10 @@ def light_lookups(frame: Frame, textures: CloudTextures, p, rho, cos) -> tuple[n
     total = total + weight * (r * (1 + b)).sum(1)
     lookups = lookups + count.sum(1)
     tau = frame.extinction * step * total
-    if frame.multiscatter:                                         # Wrenninge's octaves
-        energy = sum(cm.OCTAVE_A ** k * 4 * math.pi * phase(frame, cos, cm.OCTAVE_C ** k)
-                     * np.exp(-(cm.OCTAVE_B ** k) * tau) for k in range(cm.OCTAVES))
-    else:                                                          # the seed's double Beer
-        energy = 4 * math.pi * phase(frame, cos, 1.0) * np.maximum(np.exp(-tau), BEER_FLOOR * np.exp(-tau * BEER_SOFT))
-    powder = _lerp(1.0, 1 - np.exp(-POWDER * rho), 0.5 - 0.5 * cos)
-    ambient = _lerp(np.array(frame.ambient_base), np.array(frame.ambient_top), height(p)[:, None])
-    s = np.array(frame.sun_light) * (energy * powder)[:, None] + ambient
+    h = height(p)[:, None]
+    sun = _lerp(np.array(frame.sun_light), np.array(frame.sun_light_top), h)
+    ambient = _lerp(np.array(frame.ambient_base), np.array(frame.ambient_top), h)
+    s = sun * sun_energy(frame, tau, rho, cos)[:, None] + ambient
     return s.reshape(shape + (3,)), lookups.reshape(shape)
 
 

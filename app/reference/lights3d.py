@@ -26,6 +26,7 @@ from typing import Iterator
 import numpy as np
 
 from app.model.lights3d import scene as lm
+from app.model.lights3d.facing import faces_light, homogeneous
 from app.model.camera3d import OrbitCamera
 from app.model.lights3d.scene import Scene3D
 
@@ -43,7 +44,8 @@ class Result:
     object_id: np.ndarray    # (H, W) int32 index into scene.objects, -1 for the background
     position: np.ndarray     # (H, W, 3) world position of the surface point (NaN on the background)
     normal: np.ndarray       # (H, W, 3) unit shading normal (0 on the background)
-    facing: np.ndarray       # (lights, H, W) bool: the geometric normal faces the light, inside its range/cone
+    facing: np.ndarray       # (lights, H, W) bool: the surface's triangle faces the light (app/model/lights3d/
+    #                          facing.py: its own plane, a light in it behind it), inside its range/cone
     visible: np.ndarray      # (lights, H, W) bool: the segment to the light (ray to a directional) hits no caster
     #                          (whatever the light's shadow method: with "none" the colour just ignores it)
     rays: int                # rays traced, primary and shadow
@@ -58,6 +60,7 @@ class Triangles:
     e2: np.ndarray           # (T, 3) third corner - first
     normals: np.ndarray      # (T, 3, 3) shading normals at the corners
     geometric: np.ndarray    # (T, 3) unit geometric normals
+    third: np.ndarray        # (T, 3) third corner, as given (the facing rule's point of the plane)
     twice_area: np.ndarray   # (T,) |e1 x e2|
     owner: np.ndarray        # (T,) int32 object index
     casts: np.ndarray        # (T,) bool: part of a closed mesh (a shadow caster)
@@ -72,7 +75,7 @@ class Triangles:
         counts = [len(m.triangles) for m in meshes]
         return Triangles(corners[:, 0], e1, e2,
                          np.concatenate([m.normals for m in meshes]) if meshes else np.zeros((0, 3, 3)),
-                         n / np.maximum(area, 1e-300)[:, None], area,
+                         n / np.maximum(area, 1e-300)[:, None], corners[:, 2], area,
                          np.repeat(np.arange(len(meshes), dtype=np.int32), counts),
                          np.repeat([m.closed for m in meshes], counts).astype(bool))
 
@@ -369,8 +372,8 @@ def render(scene: Scene3D, camera: OrbitCamera, size: tuple[int, int]) -> Result
     facing, visible = np.zeros((lights, count), bool), np.zeros((lights, count), bool)
     rays = count
     for i, light in enumerate(scene.lights):
-        direction, _ = lm.to_light(light, points)
-        facing[i, hit] = (np.einsum("ij,ij->i", tris.geometric[k], direction) > 0) & lm.in_reach(light, points)
+        faces = faces_light(tris.geometric, tris.third, homogeneous(light))
+        facing[i, hit] = faces[k] & lm.in_reach(light, points)
         blocked, tested = _shadow_rays(tris, light, points, k, scale)
         visible[i, hit] = ~blocked
         rays += len(points)

@@ -10,19 +10,24 @@ from scipy.ndimage import map_coordinates
 
 from app.model.volume import render_modes as rm
 from app.model.camera3d import OrbitCamera
-from app.model.volume.view import FLIP, box_extents, world_to_texture
+from app.model.volume.view import FLIP, box_extents, voxel_extent, world_to_texture
+from app.reference.volume_labels import LabelLayer, over
 
 
 
 class Scene:
     """The volume as float RGBA and intensity, with its box, for one reference render."""
 
-    def __init__(self, data: np.ndarray, sample_range: float = 1.0, shadow_offset: float = rm.SHADOW_OFFSET) -> None:
+    level = rm.THRESHOLD  # a surface lies where field() first exceeds this
+
+    def __init__(self, data: np.ndarray, sample_range: float = 1.0, shadow_offset: float = rm.SHADOW_OFFSET,
+                 spacing: tuple[float, float, float] = (1.0, 1.0, 1.0)) -> None:
         self.shadow_offset = shadow_offset
         self.rgba = data.astype(np.float64) / 255.0                  # (d, h, w, 4)
         self.size = np.array(data.shape[2::-1], dtype=np.float64)    # (w, h, d)
-        self.extent = np.array(box_extents(tuple(int(s) for s in self.size)))
-        self.voxel = 2.0 / self.size.max()                           # world size of a voxel
+        voxels = tuple(int(s) for s in self.size)
+        self.extent = np.array(box_extents(voxels, spacing))
+        self.voxel = voxel_extent(voxels, spacing)                    # world size of a voxel's shortest side
         self.sample_range = sample_range
 
     def to_texture(self, p: np.ndarray) -> np.ndarray:
@@ -63,6 +68,10 @@ class Scene:
     @staticmethod
     def intensity(s: np.ndarray) -> np.ndarray:
         return s[..., :3].sum(-1) * s[..., 3]
+
+    def field(self, t: np.ndarray) -> np.ndarray:
+        """What a surface is in, at texture coordinates t (..., 3): the intensity (a scalar scene: the value)."""
+        return self.intensity(self.sample(t))
 
     def box(self, origin: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Slab test: entry (>= 0: the camera may be inside) and exit distances; entry >= exit: a miss."""
@@ -117,7 +126,7 @@ def _normal(scene: Scene, t: np.ndarray, view_dir: np.ndarray) -> np.ndarray:
     for axis in range(3):
         d = np.zeros(3)
         d[axis] = scene.sample_range / scene.size[axis]
-        g[:, axis] = scene.intensity(scene.sample(t + d)) - scene.intensity(scene.sample(t - d))
+        g[:, axis] = scene.field(t + d) - scene.field(t - d)
     n = -(g * FLIP / scene.extent)
     length = np.linalg.norm(n, axis=-1, keepdims=True)
     return np.where(length > 1e-9, n / np.maximum(length, 1e-300), -view_dir)
@@ -140,7 +149,7 @@ def _shadow(scene: Scene, p: np.ndarray, n: np.ndarray, light: np.ndarray, mode:
     b = scene.to_texture(start[inside] + direction[inside] * far[inside, None])
     fixed = shadow_steps if mode.shadows == "constant" else None
     pos, valid = _march(scene, a, b, steps, fixed)
-    blocked = ((scene.intensity(scene.sample(pos)) > rm.THRESHOLD) & valid).any(-1)
+    blocked = ((scene.field(pos) > scene.level) & valid).any(-1)
     lit[inside] = np.where(blocked, 0.0, 1.0)
     return lit
 
@@ -168,17 +177,13 @@ def _phong(scene: Scene, t: np.ndarray, s: np.ndarray, view_dir: np.ndarray, mod
 
 def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: rm.Mode, steps: float,
            shadow_steps: int = 20, sample_range: float = 1.0, background=(0.0, 0.0, 0.0),
-           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET) -> np.ndarray:
-    """The image (height, width, 3), floats 0..1, top row first."""
+           lights=rm.LIGHTS, shadows: bool = True, shadow_offset: float = rm.SHADOW_OFFSET,
+           spacing: tuple[float, float, float] = (1.0, 1.0, 1.0), labels: LabelLayer | None = None) -> np.ndarray:
+    """The image (height, width, 3), floats 0..1, top row first; `spacing`: the voxels' sides (x, y, z); a scan's
+    `labels` laid over it."""
     w, h = size
-    scene = Scene(data, sample_range, shadow_offset)
-    inv = np.linalg.inv(camera.clip_from_world((w, h)))
-    px, py = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
-    ndc = np.stack([2 * px / w - 1, 1 - 2 * py / h, np.ones_like(px), np.ones_like(px)], -1).reshape(-1, 4)
-    far = ndc @ inv.T
-    eye = camera.position()
-    dirs = far[:, :3] / far[:, 3:] - eye
-    dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
+    scene = Scene(data, sample_range, shadow_offset, spacing)
+    eye, dirs = camera_rays(camera, size)
     out = np.tile(np.asarray(background, dtype=np.float64), (len(dirs), 1))
     near, far_t = scene.box(np.broadcast_to(eye, dirs.shape), dirs)
     rays = np.flatnonzero(near < far_t)
@@ -186,9 +191,23 @@ def render(data: np.ndarray, camera: OrbitCamera, size: tuple[int, int], mode: r
         d = dirs[rays]
         a = scene.to_texture(eye + d * near[rays, None])
         b = scene.to_texture(eye + d * far_t[rays, None])
-        out[rays] = _shade(scene, a, b, d, mode, steps, shadow_steps, np.asarray(background, float),
-                           [np.asarray(p, float) for p in lights])
+        out[rays], at = _shade(scene, a, b, d, mode, steps, shadow_steps, np.asarray(background, float),
+                               [np.asarray(p, float) for p in lights])
+        if labels is not None:
+            out[rays] = over(labels, out[rays], a, b, at, d)
     return out.reshape(h, w, 3)
+
+
+def camera_rays(camera: OrbitCamera, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The eye and the unit direction through each pixel's centre (w * h, 3), top row first."""
+    w, h = size
+    inv = np.linalg.inv(camera.clip_from_world((w, h)))
+    px, py = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    ndc = np.stack([2 * px / w - 1, 1 - 2 * py / h, np.ones_like(px), np.ones_like(px)], -1).reshape(-1, 4)
+    far = ndc @ inv.T
+    eye = camera.position()
+    dirs = far[:, :3] / far[:, 3:] - eye
+    return eye, dirs / np.linalg.norm(dirs, axis=-1, keepdims=True)
 
 
 def _translucent(scene: Scene, pos: np.ndarray, valid: np.ndarray, background: np.ndarray) -> np.ndarray:
@@ -199,11 +218,15 @@ def _translucent(scene: Scene, pos: np.ndarray, valid: np.ndarray, background: n
     return colour + (1.0 - alpha) * background
 
 
-def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.ndarray:
+def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> tuple[np.ndarray, np.ndarray]:
+    """The colours of rays a -> b, and how far along each its colour was found (1: all the way)."""
     pos, valid = _march(scene, a, b, steps)
     if mode.kind == "translucent":
-        return _translucent(scene, pos, valid, background)
+        return _translucent(scene, pos, valid, background), np.ones(len(a))
     hit, t, s, index = _first_hit(scene, a, pos, valid)
+    ab = b - a
+    with np.errstate(invalid="ignore", divide="ignore"):
+        at = np.where(hit, ((t - a) * ab).sum(-1) / (ab * ab).sum(-1), 1.0)
     out = np.tile(background, (len(a), 1))
     if mode.kind == "pure":
         out[hit] = s[hit, :3]
@@ -212,7 +235,7 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
             near_col = np.tile(background, (len(a), 1))
             near_col[nhit] = ns[nhit, :3]
             out = 0.5 * out + 0.5 * near_col
-        return out
+        return out, at
     if hit.any():
         shade = _phong(scene, t[hit], s[hit], d[hit], mode, lights, steps, shadow_steps, shadows=True)
         if mode.translucency:  # the surface's alpha over the mean of what lies behind it, its own sample on
@@ -225,7 +248,7 @@ def _shade(scene, a, b, d, mode, steps, shadow_steps, background, lights) -> np.
         if mode.reflections:
             shade = 0.75 * shade + 0.25 * _reflection(scene, t[hit], d[hit], steps, background)
         out[hit] = shade
-    return out
+    return out, at
 
 
 def _reflection(scene: Scene, t: np.ndarray, d: np.ndarray, steps: float, background: np.ndarray) -> np.ndarray:

@@ -33,7 +33,8 @@ def set_surface_format() -> None:
 def editor_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="shadelab", formatter_class=argparse.RawDescriptionHelpFormatter,
                                 description="Start the Shadelab editor (on its embedded default scene).")
-    p.add_argument("file", nargs="?", help="a .cfg, .lua or .demo to run after start-up, or a file to open")
+    p.add_argument("file", nargs="?", help="a .cfg, .lua or .demo to run after start-up, or a file (or a folder "
+                   "of DICOM slices) to open")
     p.add_argument("--cmd", action="append", default=[], metavar="COMMAND",
                    help="console command to run at start (repeatable, in order, after FILE)")
     p.add_argument("--size", metavar="WxH", help="window size (default: as the last run left it)")

@@ -9,6 +9,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog
 
 from app.commands.clouds import SWITCHES
 from app.console.quoting import quote
+from app.model.clouds.exposure import EV_RANGE, TONE_MAPS
 from app.model.clouds.scene import INTEGRATIONS, PARAM, Param
 
 SLIDER_STEPS = 1000
@@ -16,11 +17,12 @@ GROUPS = (
     ("Coverage and shape", ("coverage", "density", "shape_scale", "detail_scale", "shape_min", "shape_max",
                             "detail_modifier", "curl_scale", "curl_amount", "weather_scale")),
     ("High clouds", ("high_coverage", "high_coverage_scale", "high_scale")),
-    ("Light", ("ambient", "direct", "hg_forward", "hg_back", "light_step", "cone_radius")),
+    ("Light", ("ambient", "direct", "hg_forward", "hg_back", "hg_back_weight", "light_step", "cone_radius",
+               "octave_scattering", "octave_extinction", "octave_eccentricity")),
     ("Wind", ("wind_speed", "wind_dir", "weather_wind_speed", "weather_wind_dir", "high_wind_speed", "high_wind_dir",
               "time_scale")),
 )
-TOGGLES = ("shape_noise", "detail_noise", "curl_noise", "multiscatter", "ground_shadows")
+TOGGLES = ("shape_noise", "detail_noise", "curl_noise", "multiscatter", "ground_shadows", "physical_sky")
 
 
 class ValueRow(QWidget):
@@ -79,6 +81,19 @@ class CloudsPanel(QWidget):
             switches.addWidget(box, i // 2, i % 2)
         render.addRow(switches)
 
+        exposure = self._group(layout, "Exposure")
+        self.exposure = ValueRow(*EV_RANGE, 2, lambda ev: self._send(f"r_cloudExposure {ev:g}"))
+        self.exposure.setToolTip(self.cvars["r_cloudExposure"].help)
+        exposure.addRow("Exposure (EV)", self.exposure)
+        box = QCheckBox("Automatic (the EV above adds to it)", toolTip=self.cvars["r_cloudAutoExposure"].help)
+        box.toggled.connect(lambda on: self._send(f"r_cloudAutoExposure {int(on)}"))
+        self.checks["r_cloudAutoExposure"] = box
+        exposure.addRow(box)
+        self.tone_map = QComboBox(toolTip=self.cvars["r_cloudToneMap"].help)
+        self.tone_map.addItems(TONE_MAPS)
+        self.tone_map.currentTextChanged.connect(lambda name: self._send(f"r_cloudToneMap {name}"))
+        exposure.addRow("Tone curve", self.tone_map)
+
         sun = self._group(layout, "Sun")
         self.hour = ValueRow(0, 24, 2, lambda h: self._send(f"sun.time {h:g}"))
         sun.addRow("Time of day", self.hour)
@@ -114,6 +129,10 @@ class CloudsPanel(QWidget):
         self.light_samples.addItems(["6", "30"])
         self.light_samples.currentTextChanged.connect(lambda n: self._send(f"clouds.set light_samples {n}"))
         noise.addRow("Light samples", self.light_samples)
+        self.phase = QComboBox(toolTip=PARAM["phase_max"].text)
+        self.phase.addItems(["mix", "max"])  # phase_max 0, 1
+        self.phase.currentIndexChanged.connect(lambda i: self._send(f"clouds.set phase_max {i}"))
+        noise.addRow("Phase", self.phase)
         layout.addWidget(QLabel("Drag: look around · wheel: altitude (through the layer and above it)"))
         layout.addStretch(1)
         self.sync()
@@ -148,11 +167,14 @@ class CloudsPanel(QWidget):
         for name, row in self.values.items():
             row.show_value(getattr(params, name))
         self.steps.show_value(min(cvars["r_cloudSteps"].value, 256))
+        self.exposure.show_value(cvars["r_cloudExposure"].value)
         self.azimuth.show_value(view.sun_azimuth)
         self.elevation.show_value(min(max(view.sun_elevation, -10.0), 90.0))
         widgets = [(self.downsample, lambda w: w.setCurrentIndex(cvars["r_cloudDownsample"].value - 1)),
                    (self.integration, lambda w: w.setCurrentText(cvars["r_cloudIntegration"].value)),
-                   (self.light_samples, lambda w: w.setCurrentText(str(params.light_samples)))]
+                   (self.tone_map, lambda w: w.setCurrentText(cvars["r_cloudToneMap"].value)),
+                   (self.light_samples, lambda w: w.setCurrentText(str(params.light_samples))),
+                   (self.phase, lambda w: w.setCurrentIndex(params.phase_max))]
         widgets += [(box, lambda w, n=name: w.setChecked(bool(cvars[n].value if n in cvars else getattr(params, n))))
                     for name, box in self.checks.items()]
         for widget, show in widgets:

@@ -39,6 +39,8 @@ class DocumentsUI(QObject):
         reg = self.editor.console.registry
         reg.command("ui.open", "", "Choose a file to open in its workspace (File > Open)", recorded=False)(
             weak_callback(self, "open_dialog"))
+        reg.command("ui.openfolder", "", "Choose a folder to open: a DICOM series (File > Open Folder)",
+                    recorded=False)(weak_callback(self, "open_folder_dialog"))
         reg.command("ui.save", "", "Save the scene to its file, or choose one if it is untitled (File > Save)",
                     recorded=False)(weak_callback(self, "save"))
         reg.command("ui.saveas", "", "Choose a file to save the scene to (File > Save As)", recorded=False)(
@@ -125,6 +127,11 @@ class DocumentsUI(QObject):
         filters.insert(1 if current.files is not None else 0, every)
         path, _ = QFileDialog.getOpenFileName(self.window, "Open", FileFolder().start(),
                                               ";;".join([*filters, "All files (*)"]))
+        return bool(path) and self._run_chosen(f"open {quote(path)}")
+
+    def open_folder_dialog(self) -> bool:
+        """Choose a folder: what a workspace reads as one file (a DICOM series, its slices a file each)."""
+        path = QFileDialog.getExistingDirectory(self.window, "Open Folder (a DICOM series)", FileFolder().start())
         return bool(path) and self._run_chosen(f"open {quote(path)}")
 
     def save(self) -> bool:

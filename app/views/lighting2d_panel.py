@@ -45,7 +45,18 @@ class Lighting2DPanel(QWidget):
         self.tool = tool
         self._syncing = False
         layout = QVBoxLayout(self)
+        layout.addWidget(self._scene_box())
+        layout.addWidget(self._light_box())
+        layout.addWidget(self._hull_box())
+        self.help = QLabel("Click: select · drag: move · round handle: rotate · square: scale\n"
+                           "hull vertices: drag, double-click edge: insert, right click: delete\n"
+                           "Delete: remove · empty drag / right drag: pan · wheel: zoom · h: draw a hull")
+        self.help.setWordWrap(True)
+        layout.addWidget(self.help)
+        layout.addStretch(1)
+        self.sync()
 
+    def _scene_box(self) -> QGroupBox:
         scene_box = QGroupBox("Scene")
         form = QFormLayout(scene_box)
         self.sample = QComboBox()
@@ -72,8 +83,9 @@ class Lighting2DPanel(QWidget):
         self.draw.setToolTip("Click points in the view; click the first point, double-click or Enter to close")
         self.draw.clicked.connect(lambda: self.tool and self.tool.start_drawing())
         form.addRow(self.draw)
-        layout.addWidget(scene_box)
+        return scene_box
 
+    def _light_box(self) -> QGroupBox:
         self.light_box = QGroupBox("Light")
         lf = QFormLayout(self.light_box)
         self.l_kind = QComboBox()
@@ -104,8 +116,9 @@ class Lighting2DPanel(QWidget):
                               ("Height", self.l_height), ("", self.l_enabled), ("", self.l_shadows),
                               ("Hulls", self.l_type), ("Ignores", self.l_ignored)):
             lf.addRow(label, widget)
-        layout.addWidget(self.light_box)
+        return self.light_box
 
+    def _hull_box(self) -> QGroupBox:
         self.hull_box = QGroupBox("Hull")
         hf = QFormLayout(self.hull_box)
         self.h_place = _Placement(self._hull, 1e6, 0.1)
@@ -115,14 +128,7 @@ class Lighting2DPanel(QWidget):
         self.h_state.setWordWrap(True)
         for label, widget in (*self.h_place.rows("Scale"), ("", self.h_enabled), ("", self.h_state)):
             hf.addRow(label, widget)
-        layout.addWidget(self.hull_box)
-        self.help = QLabel("Click: select · drag: move · round handle: rotate · square: scale\n"
-                           "hull vertices: drag, double-click edge: insert, right click: delete\n"
-                           "Delete: remove · empty drag / right drag: pan · wheel: zoom · h: draw a hull")
-        self.help.setWordWrap(True)
-        layout.addWidget(self.help)
-        layout.addStretch(1)
-        self.sync()
+        return self.hull_box
 
     # ---- sending -----------------------------------------------------------------------------------
 

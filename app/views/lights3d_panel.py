@@ -8,7 +8,7 @@ from PySide6.QtWidgets import (QAbstractSpinBox, QComboBox, QFormLayout, QGroupB
 
 from app.model.lights3d.scene import (LIGHT_KINDS, MAX_COORD, MAX_FALLOFF, MAX_SHININESS, MAX_SIZE, MAX_SPECULAR,
                                       OBJECT_KINDS, SHADOW_METHODS, SIZE_NAMES)
-from app.model.lights3d.render_settings import MAX_BIAS, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS
+from app.model.lights3d.render_settings import MAX_BIAS, MAX_CASCADES, MAX_MAP_SIZE, MIN_MAP_SIZE, PCF_KERNELS
 from app.views.form_widgets import ColorButton, rgb_words, spin
 from app.views.lights3d_tool import REMOVE_VERBS
 
@@ -50,7 +50,12 @@ class Lights3DPanel(QWidget):
         self._syncing = False
         self._rows: list[tuple[str, int]] = []  # the list's rows: (kind, index)
         layout = QVBoxLayout(self)
+        for box in (self._items_box(), self._object_box(), self._light_box(), self._lighting_box()):
+            layout.addWidget(box)
+        layout.addStretch(1)
+        self.sync()
 
+    def _items_box(self) -> QGroupBox:
         items_box = QGroupBox("Scene")
         items = QVBoxLayout(items_box)
         self.list = QListWidget()
@@ -71,8 +76,9 @@ class Lights3DPanel(QWidget):
         self.remove.clicked.connect(self._remove)
         buttons.addWidget(self.remove)
         items.addLayout(buttons)
-        layout.addWidget(items_box)
+        return items_box
 
+    def _object_box(self) -> QGroupBox:
         self.object_box = QGroupBox("Object")
         of = QFormLayout(self.object_box)
         self.o_position = _Vector(lambda xyz: self._object("object.move {i} " + xyz))
@@ -84,8 +90,9 @@ class Lights3DPanel(QWidget):
             of.addRow("size", box)  # named by kind in sync
         self.o_colour = ColorButton("Object colour", lambda c: self._object("object.set {i} colour " + rgb_words(c)))
         of.addRow("Colour", self.o_colour)
-        layout.addWidget(self.object_box)
+        return self.object_box
 
+    def _light_box(self) -> QGroupBox:
         self.light_box = QGroupBox("Light")
         lf = QFormLayout(self.light_box)
         self.l_kind = _combo(LIGHT_KINDS)
@@ -107,8 +114,9 @@ class Lights3DPanel(QWidget):
                               ("Range", self.l_range), ("Falloff", self.l_falloff), ("Spot angle °", self.l_angle),
                               ("Shadow", self.l_shadow)):
             lf.addRow(label, widget)
-        layout.addWidget(self.light_box)
+        return self.light_box
 
+    def _lighting_box(self) -> QGroupBox:
         lighting = QGroupBox("Lighting and shadow maps")
         sf = QFormLayout(lighting)
         self.ambient = ColorButton("Ambient colour", lambda c: self._send("lights3d.set ambient " + rgb_words(c)))
@@ -122,12 +130,13 @@ class Lights3DPanel(QWidget):
         self.pcf.currentTextChanged.connect(lambda n: self._send(f"r_shadowPCF {n}"))
         self.bias = spin(0, MAX_BIAS, 0.0001, 4)
         self.bias.valueChanged.connect(lambda v: self._send(f"r_shadowBias {v!r}"))
+        self.cascades = _combo(str(n) for n in range(1, MAX_CASCADES + 1))
+        self.cascades.currentTextChanged.connect(lambda n: self._send(f"r_shadowCascades {n}"))
         for label, widget in (("Ambient", self.ambient), ("Shininess", self.shininess), ("Specular", self.specular),
-                              ("Map size", self.map_size), ("PCF taps", self.pcf), ("Map bias", self.bias)):
+                              ("Map size", self.map_size), ("PCF taps", self.pcf), ("Map bias", self.bias),
+                              ("Sun cascades", self.cascades)):
             sf.addRow(label, widget)
-        layout.addWidget(lighting)
-        layout.addStretch(1)
-        self.sync()
+        return lighting
 
     # ---- sending -----------------------------------------------------------------------------------
 
@@ -188,6 +197,7 @@ class Lights3DPanel(QWidget):
             self.map_size.setCurrentText(str(self.cvars["r_shadowMapSize"].value))
             self.pcf.setCurrentText(str(self.cvars["r_shadowPCF"].value))
             self.bias.setValue(self.cvars["r_shadowBias"].value)
+            self.cascades.setCurrentText(str(self.cvars["r_shadowCascades"].value))
         finally:
             self._syncing = False
 

@@ -51,6 +51,14 @@ class MainWindow(QMainWindow):
             "console": self._dock("Console", self.console_widget, Qt.DockWidgetArea.BottomDockWidgetArea),
             "bench": self._dock("Speed vs accuracy", self.bench, Qt.DockWidgetArea.RightDockWidgetArea),
         }
+        self.workspace_docks: dict[str, list[str]] = {}  # a workspace's name -> the keys of its own docks
+        self._docks_kept: dict[str, bool] = {}  # a workspace dock's key -> shown when its workspace was left
+        for state in self.editor.workspaces:
+            for spec in VIEWS[state.name].docks:
+                self.docks[spec.key] = dock = self._dock(spec.title, spec.make(self, state),
+                                                         Qt.DockWidgetArea.RightDockWidgetArea)
+                self.splitDockWidget(self.docks["bench"], dock, Qt.Orientation.Vertical)
+                self.workspace_docks.setdefault(state.name, []).append(spec.key)
         self.resizeDocks([self.docks["bench"]], [420], Qt.Orientation.Horizontal)
         self.resizeDocks([self.docks["console"]], [170], Qt.Orientation.Vertical)
 
@@ -78,6 +86,7 @@ class MainWindow(QMainWindow):
         self.status_parts.sync()
         self.layout_settings = Layout(self)  # the layout built above is the default Reset Layout puts back
         self._fit_on_show = not self.layout_settings.restore()
+        self._show_workspace_docks(self.editor.workspace, leaving=self.editor.workspace)  # as restored, if current
         QTimer.singleShot(0, weak_callback(self.autosave, "offer_recovery"))  # once the window is up
 
     def _tick(self) -> None:
@@ -178,9 +187,12 @@ class MainWindow(QMainWindow):
         panel = self.workspace_panels.get(workspace)
         if panel is not None:  # only the workspace in view: the others sync when shown
             panel.sync()
+        for key in self.workspace_docks.get(workspace, ()):
+            self.docks[key].widget().sync()
         self.viewport.update()
 
     def _show_workspace(self, name: str) -> None:
+        self._show_workspace_docks(name, leaving=self._drawn_version[0] if self._drawn_version else None)
         self._prepare(name)
         self.workspace_actions[name].setChecked(True)
         self.viewport.forget_frame_times()
@@ -189,12 +201,22 @@ class MainWindow(QMainWindow):
         self._fit_editor_dock(name)
         self.bench.show_workspace(name)
 
+    def _show_workspace_docks(self, name: str, leaving: str | None) -> None:
+        """A workspace's own docks show while it is current, as the user last left them there; the others' hide."""
+        for key in self.workspace_docks.get(leaving, ()):
+            self._docks_kept[key] = not self.docks[key].isHidden()
+        for owner, keys in self.workspace_docks.items():
+            for key in keys:
+                self.docks[key].setVisible(owner == name and self._docks_kept.get(key, True))
+
     def _fit_editor_dock(self, name: str) -> None:
         self.resizeDocks([self.docks["editor"]], [VIEWS[name].dock_width], Qt.Orientation.Horizontal)
 
     def reset_layout(self) -> None:
         """View > Reset Layout: the docks and toolbar where the window first put them, every one shown."""
         self.layout_settings.reset()
+        self._docks_kept.clear()
+        self._show_workspace_docks(self.editor.workspace, leaving=None)
         self._fit_editor_dock(self.editor.workspace)
 
     def _prepare(self, name: str) -> None:

@@ -50,6 +50,7 @@ class Menus(QObject):
         file = bar.addMenu("&File")
         self.new = self._action(file, "&New", "scene.new", "Ctrl+N")
         self._action(file, "&Open...", "ui.open", "Ctrl+O")
+        self._action(file, "Open &Folder...", "ui.openfolder")
         self.recent_menu = file.addMenu("Open &Recent")
         self.recent_menu.aboutToShow.connect(self._fill_recent)
         self.save = self._action(file, "&Save", "ui.save", "Ctrl+S")

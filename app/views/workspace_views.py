@@ -19,6 +19,8 @@ from app.views.volume.slice_picker import SlicePicker
 from app.views.snowflake_panel import SnowflakePanel
 from app.views.snowflake_tool import SnowflakeTool
 from app.views.volume.tool import VolumeTool
+from app.commands.volume_labels import BRUSH_LABEL
+from app.views.volume.transfer_editor import TransferEditor
 from app.console.registry import SCRIPTS
 from app.model.workspace import WorkspaceMapping
 
@@ -27,13 +29,24 @@ DEFAULT_DOCK_WIDTH = 260
 
 
 @dataclass(frozen=True)
+class WorkspaceDock:
+    """A dock of the workspace's own, under the bench's, shown while the workspace is current (View lists it,
+    `ui.dock KEY` shows it): `make(window, state)` makes its widget, whose `sync()` brings it in line with the
+    model."""
+    key: str
+    title: str
+    make: Callable[..., QWidget]
+
+
+@dataclass(frozen=True)
 class WorkspaceViews:
     """`tool(viewport, state, run)` handles the viewport's mouse and keys (press, move, release, wheel;
     optionally double_click and key); `panel(window, state, tool)` makes the dock's widget, whose `sync()`
-    brings it in line with the model while the workspace is current."""
+    brings it in line with the model while the workspace is current; `docks`, the workspace's own docks."""
     tool: Callable | None = None
     panel: Callable[..., QWidget] | None = None
     dock_width: int = DEFAULT_DOCK_WIDTH
+    docks: tuple[WorkspaceDock, ...] = ()
 
 
 class Scrolled(QScrollArea):
@@ -63,11 +76,21 @@ def volume_panel(window, state, tool) -> QWidget:
         colour = QColorDialog.getColor(QColor(*rgba), window, title, options)
         return colour if colour.isValid() else None
 
-    @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c)", recorded=False,
-                 allow=SCRIPTS)
+    @reg.command("ui.brushcolor", "", "Choose the brush colour in a dialog (painter key c); on a scan, the brush's "
+                 "label from a menu", recorded=False, allow=SCRIPTS)
     def brush_colour() -> None:
-        if colour := colour_dialog("Brush colour", view.brush, alpha=True):
+        if state.volume.voxels.labels is not None:
+            painter.labels.open_menu()
+        elif colour := colour_dialog("Brush colour", view.brush, alpha=True):
             window.run(f"brush.color {colour.red()} {colour.green()} {colour.blue()} {colour.alpha()}")
+
+    @reg.command("ui.labelcolor", "", "Choose the colour of the brush's label in a dialog", recorded=False,
+                 allow=SCRIPTS)
+    def label_colour() -> None:
+        label = window.editor.console.registry.cvars[BRUSH_LABEL].value
+        labels = state.volume.voxels.require_labels()
+        if label and (colour := colour_dialog(f"Colour of label {label}", labels.colours[label], alpha=False)):
+            window.run(f"label.color {label} {colour.red()} {colour.green()} {colour.blue()}")
 
     @reg.command("ui.background", "", "Choose the 3D view's background colour (key c)", recorded=False, allow=SCRIPTS)
     def background() -> None:
@@ -86,7 +109,8 @@ def volume_panel(window, state, tool) -> QWidget:
 
 VIEWS: dict[str, WorkspaceViews] = WorkspaceMapping("VIEWS (app/views/workspace_views.py)", {
     "lighting2d": WorkspaceViews(Lighting2DTool, lighting2d_panel, 300),
-    "volume": WorkspaceViews(VolumeTool, volume_panel, 520),
+    "volume": WorkspaceViews(VolumeTool, volume_panel, 520, docks=(
+        WorkspaceDock("transfer", "Transfer function", lambda window, state: TransferEditor(state, window.run)),)),
     "clouds": WorkspaceViews(CloudsTool, lambda window, state, tool: Scrolled(CloudsPanel(window.editor, state,
                                                                                           window.run)), 420),
     "lights3d": WorkspaceViews(Lights3DTool, lambda window, state, tool: Scrolled(Lights3DPanel(window.editor, state,

@@ -28,7 +28,7 @@ void main() {
     vec4 low = clouds_at(d);
     vec4 high = cirrus(u_camera, d, cos_theta);
     vec4 clouds = u_camera.y > R_CIRRUS - PLANET_RADIUS ? low * (1.0 - high.a) + high : high * (1.0 - low.a) + low;
-    vec3 colour = clamp(clouds.rgb + (1.0 - clouds.a) * background(u_camera, d, cos_theta), 0.0, 1.0);
+    vec3 colour = clouds.rgb + (1.0 - clouds.a) * background(u_camera, d, cos_theta);  // linear, unclamped
     if (u_debug == 1) {
         frag_color = vec4(vec3(clamp((texture(u_lookups, uv).r + lookups) / 1000.0, 0.0, 1.0)), 1.0);
     } else if (u_debug == 2) {

@@ -15,6 +15,7 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy) * u_stride + u_phase;
     vec2 ndc = (vec2(pixel) + 0.5) / vec2(u_buffer) * 2.0 - 1.0;
     vec3 d = ray_dir(ndc);
-    out_clouds = march(u_camera, d, pixel);
-    out_state = vec4(lookups, 1.0, ground_ray(u_camera, d) ? 1.0 : 0.0, cloud_depth);
+    vec4 clouds = march(u_camera, d, pixel);
+    out_clouds = aerial_perspective(clouds, d, cloud_depth);
+    out_state = vec4(lookups, 1.0, ground_ray(u_camera, d) ? 1.0 : 0.0, light_depth);
 }

@@ -10,19 +10,20 @@ uniform vec3 u_light_colour;
 uniform vec3 u_eye;
 uniform float u_shininess;
 uniform float u_specular;
-uniform bool u_facing_test;  // a shadowed light reaches only faces turned to it (their geometric normal)
+uniform bool u_facing_test;  // a shadowed light reaches only faces turned to it (faces_light: their plane)
 uniform bool u_reach_mask;   // the debug view: white where the light lights the pixel, instead of its light
 
 in vec3 v_world;
 in vec3 v_normal;
 flat in vec3 v_face;
+flat in vec3 v_corner;
 out vec4 frag_color;
 
 void main() {
     vec3 L;
     float katt = attenuation(v_world, L);
     float facing = dot(v_face, L);
-    if (katt <= 0.0 || (u_facing_test && facing <= 0.0))
+    if (katt <= 0.0 || (u_facing_test && !faces_light(v_face, v_corner)))
         discard;
     float visibility = map_visibility(v_world, facing);
     if (u_reach_mask) {

@@ -8,10 +8,12 @@ invariant gl_Position;  // shadow_volume_VS.glsl's expression and inputs: its ca
 out vec3 v_world;
 out vec3 v_normal;
 flat out vec3 v_face;
+flat out vec3 v_corner;  // the triangle's third corner (the provoking vertex): a point of its plane, for faces_light
 
 void main() {
     gl_Position = u_view_proj * in_position;
     v_world = in_position.xyz;
     v_normal = in_normal;
     v_face = in_face;
+    v_corner = in_position.xyz;
 }

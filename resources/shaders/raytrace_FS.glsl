@@ -1,6 +1,10 @@
 #version 330 core
 //#INCLUDE raymarch.shl
 //#INSERT raymarch
+//#INCLUDE scalar_modes.shl
+//#INSERT scalar_modes
+//#INCLUDE labels.shl
+//#INSERT labels
 
 uniform mat4 u_inv_view_proj;
 uniform vec3 u_eye;
@@ -18,7 +22,8 @@ void main() {
         vec3 a = to_texture(u_eye + dir * span.x);
         vec3 b = to_texture(u_eye + dir * span.y);
         float at;
-        colour = with_planes(trace(a, b, dir, at), a, b, at);
+        vec3 traced = u_scalar_mode == 0 ? trace(a, b, dir, at) : scalar_trace(a, b, dir, at);
+        colour = with_planes(with_labels(traced, a, b, dir, at), a, b, at);
     }
     frag_color = u_debug_samples == 1 ? vec4(samples_taken, 0.0, 0.0, 1.0) : vec4(colour, 1.0);
 }

@@ -9,7 +9,9 @@ Passes per frame (docs/clouds.md, "Optimisations"):
    clouds' depth; clamped to what was traced around them while the clock runs), or this frame's buffer where the
    last frame has nothing; what a turn brought into view is traced at that size;
 3. taa (without reprojection): the history, clamped to this frame's 3x3 neighbourhood, blended with it;
-4. composite: the buffer under or over the cirrus, over the sky or the shadowed ground.
+4. composite: the buffer under or over the cirrus, over the sky or the shadowed ground, into a float target: linear
+   radiance, unclamped;
+5. tone map (app/gl/clouds/tone_map.py): exposure, the tone curve and sRGB encoding into the output.
 Every buffer is read between its texels only from those whose rays end where the pixel's does, the ground or
 the sky (resources/shaders/clouds_upsample.shl): clouds never spread across the horizon.
 
@@ -22,11 +24,13 @@ from dataclasses import asdict, replace
 import moderngl
 import numpy as np
 
+from app.gl.clouds.atmosphere import AtmosphereTables
 from app.gl.clouds.reprojection import NEW_SHARE, buffer_change, cloud_motion, new_directions
+from app.gl.clouds.tone_map import ToneMap
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
-from app.model.clouds.scene import CloudRenderSettings, Frame
+from app.model.clouds.scene import ATMOSPHERE, CloudRenderSettings, Frame, furnace
 
 
 def bayer_order(n: int) -> tuple[int, ...]:
@@ -59,6 +63,8 @@ def finer(quality: tuple, before: tuple | None) -> bool:
         return False
     (steps, down, _taa, picture), (steps0, down0, _taa0, picture0) = quality, before
     return steps > steps0 or down < down0 or picture < picture0
+
+
 CONVERGED = 0.1 / 255   # a still view has settled once a frame changes its clouds by less (mean per texel, RGB)
 MAX_SETTLING = 256      # ... or after this many frames since its history restarted
 STATE = 4               # the state texture's components: lookups, traced, ground, depth (clouds_upsample.shl)
@@ -131,7 +137,7 @@ def reprojects(settings: CloudRenderSettings) -> bool:
 
 
 def uniforms(frame: Frame, settings: CloudRenderSettings, aspect: float, frame_index: int) -> dict:
-    values = {f"u_{name}": value for name, value in asdict(frame).items()}
+    values = {f"u_{name}": value for name, value in asdict(furnace(frame) if settings.furnace else frame).items()}
     values.update(u_aspect=aspect, u_steps=settings.steps, u_seed_integration=int(settings.integration == "seed"),
                   u_early_exit=int(settings.early_exit), u_big_steps=int(settings.big_steps),
                   u_light_skip=int(settings.light_skip), u_detail_skip=int(settings.detail_skip),
@@ -143,9 +149,11 @@ class CloudRenderer:
     def __init__(self, ctx: moderngl.Context, shaders) -> None:
         self.ctx, self.shaders = ctx, shaders
         self.textures: CloudTexturesGL | None = None
+        self.atmosphere = AtmosphereTables(ctx, shaders)
         self.units = TextureUnits()  # every pass's samplers: the noise stays bound while each pass binds its own
         self._screen = VertexArrays(lambda program: ctx.vertex_array(program, []))
         self._targets: dict[str, Target] = {}
+        self.tone_map = ToneMap(ctx, shaders)
         self.frame_index = 0
         self._key = None           # what the histories were made with: all but the clock, the turn, the quality
         self._quality = None       # the REFINED settings of the last frame
@@ -161,6 +169,7 @@ class CloudRenderer:
         self.reprojected_frames = 0
         self.last_lookups: Target | None = None  # the last frame's cloud buffer and its state (lookups...)
         self.last_clouds: moderngl.Texture | None = None  # the buffer the last composite read
+        self.last_hdr: moderngl.Texture | None = None     # the last frame's linear radiance (the tone map's input)
 
     # ---- targets ------------------------------------------------------------------------------------
 
@@ -193,8 +202,8 @@ class CloudRenderer:
         size = fbo.size
         bsize = buffer_size(size, settings.downsample)
         aspect = size[0] / max(size[1], 1)
-        values = uniforms(frame, settings, aspect, self.frame_index)
-        values.update(self.textures.use(self.units))
+        self.atmosphere.update(ATMOSPHERE, frame.camera[1], frame.sun_dir[1])  # first: its passes bind their own units
+        values = self._scene_values(frame, settings, aspect)
         # The histories hold while only the clock moves (the winds, a weather blend); reprojection's also
         # through a turn of the camera (a direction's colour does not depend on where the camera looks) and a
         # change to a cheaper quality (REFINED); anything else restarts them (docs/clouds.md, "Optimisations").
@@ -202,7 +211,8 @@ class CloudRenderer:
         clock = (frame.wind_offset, frame.weather_offset, frame.high_offset, frame.blend)
         key = (replace(frame, forward=None, right=None, up=None, wind_offset=None, weather_offset=None,
                        high_offset=None, blend=None),
-               replace(settings, debug_samples=False, **{name: None for name in REFINED}), size, weather.version)
+               replace(settings, debug_samples=False, tone=None, **{name: None for name in REFINED}), size,
+               weather.version)
         quality = tuple(getattr(settings, name) for name in REFINED)
         history = 0 if key != self._key or finer(quality, self._quality) else 1 if basis == self._basis else 2
         requality = history != 0 and quality != self._quality
@@ -217,11 +227,22 @@ class CloudRenderer:
         else:
             self.taa_frames = 0
         self.last_clouds = clouds
-        self._draw("clouds_composite", fbo, values,
+        hdr = None if settings.debug_samples else self._target("hdr", size, (4,))  # the lookups view: no light
+        self._draw("clouds_composite", fbo if hdr is None else hdr.fbo, values,
                    **self.units.bind(u_clouds=clouds, u_lookups=self.last_lookups.textures[1]),
                    u_size=tuple(map(float, size)), u_debug=int(settings.debug_samples))
+        if hdr is not None:
+            self.last_hdr = hdr.textures[0]
+            self.tone_map.apply(self.last_hdr, fbo, settings.tone, restart=history == 0)
         self._key, self._quality, self._basis, self._clock = key, quality, basis, clock
         self.frame_index += 1
+
+    def _scene_values(self, frame: Frame, settings: CloudRenderSettings, aspect: float) -> dict:
+        """The uniforms every pass shares, the textures bound: the frame's, the noise's and the atmosphere's."""
+        values = uniforms(frame, settings, aspect, self.frame_index)
+        values.update(self.textures.use(self.units), **self.atmosphere.uniforms(ATMOSPHERE),
+                      **self.units.bind(u_atmosphere=self.atmosphere.atlas))
+        return values
 
     def _trace(self, size, bsize, settings, values, history: int, requality: bool, clock_stopped: bool,
                clock: tuple) -> moderngl.Texture:
@@ -317,10 +338,13 @@ class CloudRenderer:
         return self._change
 
     def settling(self, settings: CloudRenderSettings) -> bool:
-        """Whether more frames of an unchanged scene still change the image: reprojection fills its blocks in
-        d^2 frames; TAA, which has something to average only while the jitter moves, until a frame changes the
-        clouds by less than CONVERGED (at most MAX_SETTLING frames). While the clock runs nothing converges: TAA
-        fills its fading average in TAA_FRAMES frames (the animation asks for the frames after)."""
+        """Whether more frames of an unchanged scene still change the image: an automatic exposure adapts to the
+        frame's light; reprojection fills its blocks in d^2 frames; TAA, which has something to average only while
+        the jitter moves, until a frame changes the clouds by less than CONVERGED (at most MAX_SETTLING frames).
+        While the clock runs nothing converges: TAA fills its fading average in TAA_FRAMES frames (the animation
+        asks for the frames after)."""
+        if not settings.debug_samples and self.tone_map.settling():
+            return True
         averaging = settings.taa and settings.jitter
         frames = self.reprojected_frames if reprojects(settings) else self.taa_frames
         if reprojects(settings) and frames < settings.downsample ** 2:
@@ -336,8 +360,7 @@ class CloudRenderer:
         counts = self.last_lookups.textures[1]
         march = float(np.frombuffer(counts.read(), dtype="f4").reshape(-1, counts.components)[:, 0].sum())
         target = self._target("lookups", size, (1,))
-        values = uniforms(frame, settings, size[0] / max(size[1], 1), self.frame_index)
-        values.update(self.textures.use(self.units))
+        values = self._scene_values(frame, settings, size[0] / max(size[1], 1))
         self._draw("clouds_composite", target.fbo, values,
                    **self.units.bind(u_clouds=self.last_clouds, u_lookups=counts), u_size=tuple(map(float, size)),
                    u_debug=2)

@@ -1,8 +1,9 @@
 """The clouds workspace's renderer: its model's frame through the cloud renderer; it keeps asking for
-frames while its temporal histories fill (TAA, reprojection). Its cheaper levels trace a smaller cloud buffer
-and fewer steps into the reprojected picture (the cheapest a half-size one) under the full-size composite: none
-draws fewer pixels, so the ground and the horizon stay exact and a drag goes on from the picture through the
-levels (the host's reduced target would stretch the horizon over the ground and restart the history)."""
+frames while its temporal histories fill (TAA, reprojection) and its automatic exposure adapts. Its cheaper
+levels trace a smaller cloud buffer and fewer steps into the reprojected picture (the cheapest a half-size one)
+under the full-size composite: none draws fewer pixels, so the ground and the horizon stay exact and a drag goes
+on from the picture through the levels (the host's reduced target would stretch the horizon over the ground and
+restart the history)."""
 from __future__ import annotations
 
 from dataclasses import replace

@@ -41,6 +41,12 @@ class WorkspaceRendererBase:
         """`settings` with the renderer's own saving number `cheap` (1, 2...: each cheaper) applied."""
         return settings
 
+    def without_overlays(self, settings):
+        """`settings` that draw the scene alone, without the editor's marks over it (the volume's slice plane, the
+        2D light icons, the 3D lights' markers and gizmo): what `shadelab render` draws unless --overlays. A host
+        asks for it (WorkspaceRenderer.render's `overlays`); a workspace that draws no marks keeps its settings."""
+        return settings
+
     def idle(self) -> bool:
         """Work put off while the user interacted; True if a redraw is due."""
         return False

@@ -41,16 +41,17 @@ class WorkspaceRenderer:
         self._last_budget: FrameBudget | None = None
 
     def render(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool = False,
-               budget_ms: float = math.inf) -> bool:
+               budget_ms: float = math.inf, overlays: bool = True) -> bool:
         """Draw `state` (a workspace, app/model/workspace.py) with its `settings`; while `interactive`, at the most
-        accurate of its levels that fits `budget_ms` (app/gl/core/frame_budget.py). True when the frame was reduced
-        or work was put off, so the host should ask for a full frame once idle."""
+        accurate of its levels that fits `budget_ms` (app/gl/core/frame_budget.py); with the editor's `overlays`
+        (its marks over the scene) or the scene alone. True when the frame was reduced or work was put off, so the
+        host should ask for a full frame once idle."""
         before = self._check(fbo, f"what ran before the {state.name} frame", state=False)  # the baseline is set next
         previous = self.ctx.fbo  # None in a standalone context that bound none yet
         previous = previous if previous is not None and previous.glo == bound_framebuffer() else None
         apply_baseline(self.ctx, fbo)
         try:
-            reduced = self._draw(fbo, state, settings, interactive, budget_ms)
+            reduced = self._draw(fbo, state, settings, interactive, budget_ms, overlays)
             problem = self._check(fbo, f"the {state.name} frame")
         finally:
             apply_baseline(self.ctx, fbo)
@@ -62,12 +63,15 @@ class WorkspaceRenderer:
             raise GLStateError("; ".join(p for p in (before, problem) if p))
         return reduced
 
-    def _draw(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool, budget_ms: float) -> bool:
+    def _draw(self, fbo: moderngl.Framebuffer, state, settings, interactive: bool, budget_ms: float,
+              overlays: bool) -> bool:
         kind = RENDERERS[state.name]
         if state.name not in self.renderers:
             self.renderers[state.name] = kind(self.ctx, self.shaders)
             self.budgets[state.name] = FrameBudget(self.ctx, self.shaders, kind.LEVELS)
         renderer, budget = self._last, self._last_budget = self.renderers[state.name], self.budgets[state.name]
+        if not overlays:
+            settings = renderer.without_overlays(settings)
         level = budget.choose(interactive, budget_ms)
         if level.cheap:
             settings = renderer.cheaper(settings, level.cheap)

@@ -133,26 +133,28 @@ class Lighting2DOverlay:
         self.stats = OverlayStats()
 
     def draw(self, fbo, scene: Scene2D, index: SceneIndex, camera: Camera2D, flip_y: bool, debug: bool,
-             selection=None, pending=None, cursor=None) -> None:
+             selection=None, pending=None, cursor=None, marks: bool = True) -> None:
         """`index` is the scene's index (the renderer's): a new one means a new scene (an edit makes one), so it
-        keys the layers with the view."""
+        keys the layers with the view. Without `marks`, the debug wireframe alone (no icons, outlines, selection):
+        the scene as `shadelab render` draws it."""
         unit = camera.world_per_pixel(fbo.size[1])
         view = camera.view_rect(*fbo.size)  # the view is symmetric about cy: flip_y too
         frame = (index, camera.key(), tuple(fbo.size), flip_y)
         self.stats = OverlayStats(icons=self.stats.icons)
-        self._scene_layer.update((*frame, debug), lambda: self._scene_lines(scene, index, unit, view, debug),
-                                 camera, flip_y, self.stats)
-        self._selection_layer.update((*frame, selection, tuple(pending or ()), cursor if pending else None),
-                                     lambda: self._selection_lines(scene, unit, selection, pending, cursor),
-                                     camera, flip_y, self.stats)
+        self._scene_layer.update((*frame, debug, marks), lambda: self._scene_lines(scene, index, unit, view, debug,
+                                                                                   marks), camera, flip_y, self.stats)
         self._scene_layer.draw(fbo, camera)
-        self._selection_layer.draw(fbo, camera)
+        if marks:
+            self._selection_layer.update((*frame, selection, tuple(pending or ()), cursor if pending else None),
+                                         lambda: self._selection_lines(scene, unit, selection, pending, cursor),
+                                         camera, flip_y, self.stats)
+            self._selection_layer.draw(fbo, camera)
 
-    def _scene_lines(self, scene: Scene2D, index: SceneIndex, unit: float, view, debug: bool):
+    def _scene_lines(self, scene: Scene2D, index: SceneIndex, unit: float, view, debug: bool, marks: bool = True):
         invalid, outlines, lights = [], [], []
-        icons, rims = light_icons(icons_in(scene, unit, *view), unit)
+        icons, rims = light_icons(icons_in(scene, unit, *view) if marks else np.zeros((0, 2)), unit)
         self.stats.icons = len(icons) // len(ICON_LINES)
-        seen = index.outlines_in(*view)
+        seen = index.outlines_in(*view) if marks or debug else []
         self.hulls_seen = len(seen)
         for i in seen:
             hull = scene.hulls[i]

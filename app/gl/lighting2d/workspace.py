@@ -27,8 +27,11 @@ class Lighting2DWorkspaceRenderer(WorkspaceRendererBase):
         index = state.index()  # the workspace's, which its tool's clicks share
         self.lighting.render(fbo, state.scene, state.camera, settings, index=index)
         self.overlay.draw(fbo, state.scene, index, state.camera, settings.flip_y, settings.debug, state.selection,
-                          state.pending, state.pending_cursor)
+                          state.pending, state.pending_cursor, marks=settings.overlays)
         return False
+
+    def without_overlays(self, settings: Shading2D) -> Shading2D:
+        return replace(settings, overlays=False)
 
     def value_at(self, x: float, y: float, size: tuple[int, int]):
         return self.lighting.lightmap_value(x, y, size)

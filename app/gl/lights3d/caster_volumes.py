@@ -4,24 +4,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-import numpy as np
-
 from app.gl.lights3d.shadow_volume_pass import volume
 from app.gl.lights3d.shadow_volumes import VolumeGeometry
 from app.gl.lights3d.shadow_volume_buffers import VolumeBuffer
+from app.model.lights3d.facing import homogeneous
 from app.model.lights3d.scene import Light3D, Object3D
-
-
-def light_vector(light: Light3D) -> np.ndarray:
-    """The light as shadow_volumes.py takes it: (position, 1), or (towards the light, 0) for a directional one."""
-    if light.kind == "directional":
-        return np.array([*(-np.asarray(light.direction)), 0.0])
-    return np.array([*light.position, 1.0])
 
 
 def build(method: str, obj: Object3D, light: Light3D) -> VolumeGeometry:
     mesh = obj.mesh()  # a caster: closed, so its adjacency (kept across moves) is there to take
-    return volume(method, mesh.positions, mesh.triangles, light_vector(light), mesh.adjacency())
+    return volume(method, mesh.positions, mesh.triangles, homogeneous(light), mesh.adjacency())
 
 
 class VolumeCache:
@@ -36,7 +28,7 @@ class VolumeCache:
         self.built = 0  # volumes built since made
 
     def get(self, method: str, obj: Object3D, light: Light3D) -> VolumeBuffer:
-        key = (method, obj.kind, obj.size, obj.position, tuple(light_vector(light)))
+        key = (method, obj.kind, obj.size, obj.position, tuple(homogeneous(light)))
         kept = self._used.get(key) or self._volumes.pop(key, None)
         if kept is None:
             kept = self._upload(build(method, obj, light))

@@ -111,3 +111,31 @@ def union(rects) -> tuple[int, int, int, int] | None:
     x0, y0 = min(r[0] for r in rects), min(r[1] for r in rects)
     x1, y1 = max(r[0] + r[2] for r in rects), max(r[1] + r[3] for r in rects)
     return x0, y0, x1 - x0, y1 - y0
+
+
+DEPTH_MARGIN = 1e-5  # window depth around a depth range: the stored depths are rounded (24 bits) and rasterised
+
+
+def depth_range(clip_from_world: np.ndarray, near: float, lo, hi) -> tuple[float, float] | None:
+    """The window depths (GL's default range 0..1) box lo..hi may hold in view, a margin to spare: from its
+    nearest corner's (0 where part of it lies before the near plane) to its farthest's (a perspective's depth
+    grows with the distance along the view, which is linear: a box's extremes are at corners); None where the box
+    is empty or wholly before the near plane."""
+    lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
+    if (lo > hi).any():
+        return None
+    clip = np.c_[box_corners(lo, hi), np.ones(8)] @ np.asarray(clip_from_world, np.float64).T
+    ahead = clip[:, 3] >= near
+    if not ahead.any():
+        return None
+    depth = (clip[ahead, 2] / clip[ahead, 3] + 1.0) / 2.0
+    nearest = 0.0 if not ahead.all() else float(depth.min())
+    return max(0.0, nearest - DEPTH_MARGIN), min(1.0, float(depth.max()) + DEPTH_MARGIN)
+
+
+def span(ranges) -> tuple[float, float] | None:
+    """The depth range holding all of `ranges` (None ones left out)."""
+    ranges = [r for r in ranges if r is not None]
+    if not ranges:
+        return None
+    return min(r[0] for r in ranges), max(r[1] for r in ranges)

@@ -3,13 +3,18 @@ with or without caps, or a depth map from the light), how the volumes mark the s
 then lights. The renderer, the shadow volume pass and the shadows bench read them here alone; their names are the
 model's SHADOW_METHODS (Light3D.shadow: commands, scene files and bench CSVs say them), in the same order.
 
-- onepass (seed 002): the 7-triangle volume of every caster triangle, both faces alike, in one pass: stencil
+- onepass (seed 002, closed): the volume of each caster triangle, both faces alike, in one pass: stencil
   NOTEQUAL ref 0xFC, read and write masks 0xFD, sfail KEEP, zfail INVERT, zpass INCR, depth LESS. Bit 1 is never
   written, so from 0 a depth pass gives 1 and a second pass 2 & 0xFD = 0 (INCR toggles bit 0); a depth fail
   gives ~0 & 0xFD = 0xFD and a second one 0 (INVERT toggles 0 <-> 0xFD). One of each, in either order, gives
   0xFC (1 then INVERT: 0xFE & 0xFD; 0xFD then INCR: 0xFE & 0xFD), which equals the reference under the read
   mask, so the test fails from then on and nothing un-shadows it. Shadowed: stencil == 0xFC (SHADOW_VALUE).
+  Each triangle's prism is closed at infinity by its far cap (8 triangles), so a view ray that enters it leaves
+  it: one pass and one fail where the surface lies inside, two of a kind where it does not. Only the triangles
+  turned from the light give one (their prisms' union is a closed caster's shadow: half the fill).
   Like zpass it has no face in front of an eye inside a volume.
+- onepass-seed: the seed's own 7 triangles of every caster triangle, open at infinity: where a view ray runs to
+  infinity inside a prism (looking along a point light's rays) it counts the entry and never the exit.
 - zpass: the silhouette volume without caps, two-sided: front faces INCR_WRAP, back faces DECR_WRAP where the
   depth test passes. Wrong where the eye is inside a volume or the near plane cuts one (Everitt & Kilgard), so
   it is drawn as they describe it, near and far planes clipping.
@@ -68,8 +73,10 @@ class ShadowMethod:
         return StencilState(func=func, ref=ref, write_mask=0, depth_func=GL.GL_EQUAL, colour_write=True)
 
 
-def _onepass(positions, triangles, light, _adjacency) -> VolumeGeometry:
-    return onepass_volume(positions, triangles, light)  # one triangle at a time: no adjacency needed
+def _onepass(closed: bool) -> Callable[..., VolumeGeometry]:
+    def build(positions, triangles, light, _adjacency) -> VolumeGeometry:
+        return onepass_volume(positions, triangles, light, closed)  # one triangle at a time: no adjacency needed
+    return build
 
 
 def _silhouette(caps: bool) -> Callable[..., VolumeGeometry]:
@@ -78,13 +85,13 @@ def _silhouette(caps: bool) -> Callable[..., VolumeGeometry]:
     return build
 
 
-ONEPASS = ShadowMethod("onepass", StencilVolumes(
-    _onepass,
-    StencilState(func=GL.GL_NOTEQUAL, ref=SHADOW_VALUE, read_mask=0xFD, write_mask=0xFD,
-                 front=StencilOps(GL.GL_KEEP, GL.GL_INVERT, GL.GL_INCR),
-                 back=StencilOps(GL.GL_KEEP, GL.GL_INVERT, GL.GL_INCR),
-                 depth_clamp=True),  # w = 0 vertices: their depth fails must count, not be clipped
-    lit=(GL.GL_NOTEQUAL, SHADOW_VALUE)))
+ONEPASS_MARKS = StencilState(func=GL.GL_NOTEQUAL, ref=SHADOW_VALUE, read_mask=0xFD, write_mask=0xFD,
+                             front=StencilOps(GL.GL_KEEP, GL.GL_INVERT, GL.GL_INCR),
+                             back=StencilOps(GL.GL_KEEP, GL.GL_INVERT, GL.GL_INCR),
+                             depth_clamp=True)  # w = 0 vertices: their depth fails must count, not be clipped
+ONEPASS = ShadowMethod("onepass", StencilVolumes(_onepass(closed=True), ONEPASS_MARKS, (GL.GL_NOTEQUAL, SHADOW_VALUE)))
+ONEPASS_SEED = ShadowMethod("onepass-seed", StencilVolumes(_onepass(closed=False), ONEPASS_MARKS,
+                                                           (GL.GL_NOTEQUAL, SHADOW_VALUE)))
 ZPASS = ShadowMethod("zpass", StencilVolumes(
     _silhouette(caps=False),
     StencilState(front=StencilOps(GL.GL_KEEP, GL.GL_KEEP, GL.GL_INCR_WRAP),
@@ -98,4 +105,4 @@ ZFAIL = ShadowMethod("zfail", StencilVolumes(
 MAP = ShadowMethod("map", shadow_map=True)
 NONE = ShadowMethod("none")
 
-METHODS = {m.name: m for m in (ONEPASS, ZPASS, ZFAIL, MAP, NONE)}
+METHODS = {m.name: m for m in (ONEPASS, ONEPASS_SEED, ZPASS, ZFAIL, MAP, NONE)}

@@ -13,7 +13,7 @@ with `draw_depth` (the same vertex shader) or a shader declaring `invariant gl_P
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -21,7 +21,8 @@ import numpy as np
 from app.gl.lights3d import shadow_methods
 from app.gl.lights3d.shadow_methods import StencilVolumes
 from app.gl.lights3d.shadow_volumes import VolumeGeometry
-from app.gl.core.stencil import StencilState, StencilTarget, clear_stencil, stencil_state
+from app.gl.core.depth_bounds import depth_bounds
+from app.gl.core.stencil import GL, KEEP, StencilState, StencilTarget, clear_stencil, stencil_state
 from app.gl.lights3d.shadow_volume_buffers import VolumeBuffer
 from app.model.lights3d.mesh import Adjacency
 from app.model.transforms import gl_matrix
@@ -57,6 +58,14 @@ def shadowed(method: str, stencil: np.ndarray) -> np.ndarray:
     return _volumes(method).shadowed(stencil)
 
 
+Bounds = tuple[float, float] | None  # the depth bounds of a light's reach (app/gl/core/depth_bounds.py), or none
+
+
+def counting(state: StencilState) -> StencilState:
+    """`state` with every fragment passing the depth and stencil tests and nothing written: what fill counts."""
+    return replace(state, func=GL.GL_ALWAYS, write_mask=0, front=KEEP, back=KEEP, depth_func=GL.GL_ALWAYS)
+
+
 @dataclass(frozen=True)
 class ShadowMask:
     mask: np.ndarray    # bool (height, width), top row first: a surface in shadow of the light
@@ -73,6 +82,7 @@ class ShadowVolumePass:
         self.ctx, self.shaders = ctx, shaders
         self._stream = VolumeBuffer(ctx)
         self._kept_bytes = 0  # written to the uploaded volumes' buffers
+        self._samples: moderngl.Query | None = None  # fill's occlusion query, made at its first count
 
     @property
     def uploaded_bytes(self) -> int:
@@ -91,40 +101,53 @@ class ShadowVolumePass:
         self._draw(fbo, [self._stream], view_proj, DEPTH_ONLY)
 
     def mark(self, fbo: moderngl.Framebuffer, method: str, geometries: Sequence[VolumeGeometry],
-             view_proj: np.ndarray) -> int:
-        """Draw the geometries into the stencil of `fbo` (bound and used by this call), one after another in the
-        order their triangles come: one upload, one draw and one stencil state for all the casters of a light.
-        Returns the triangles drawn. The caller cleared the stencil."""
+             view_proj: np.ndarray, bounds: Bounds = None) -> int:
+        """Draw the geometries into the stencil of `fbo` (bound and used by this call, within its scissor), one
+        after another in the order their triangles come: one upload, one draw and one stencil state for all the
+        casters of a light; within depth `bounds` where the context has the test. Returns the triangles drawn.
+        The caller cleared the stencil."""
         state = _volumes(method).marks
         self._stream.write(joined(geometries).vertices)
-        return self._draw(fbo, [self._stream], view_proj, state)
+        return self._draw(fbo, [self._stream], view_proj, state, bounds)
 
     def mark_uploaded(self, fbo: moderngl.Framebuffer, method: str, volumes: Sequence[VolumeBuffer],
-                      view_proj: np.ndarray) -> int:
+                      view_proj: np.ndarray, bounds: Bounds = None) -> int:
         """As mark, for volumes `upload` made: nothing is sent but the matrix. Drawn in their order, one draw each
         (GL keeps the order of primitives across draws: the stencil is mark's of the geometries joined)."""
-        return self._draw(fbo, volumes, view_proj, _volumes(method).marks)
+        return self._draw(fbo, volumes, view_proj, _volumes(method).marks, bounds)
+
+    def fill(self, fbo: moderngl.Framebuffer, method: str, geometries: Sequence[VolumeGeometry],
+             view_proj: np.ndarray, bounds: Bounds = None) -> int:
+        """The fill of mark's draw of the same volumes: the fragments it rasterises within the scissor (and the
+        depth bounds, where the context has them), whether their depth test passes or fails (either may write
+        the stencil, and each costs a stencil test). Counted by an occlusion query (GL_SAMPLES_PASSED) over the
+        same draw with both tests passing everything and nothing written; `fbo` single-sampled: one a pixel."""
+        self._samples = self._samples or self.ctx.query(samples=True)
+        self._stream.write(joined(geometries).vertices)
+        with self._samples:
+            self._draw(fbo, [self._stream], view_proj, counting(_volumes(method).marks), bounds)
+        return self._samples.samples
 
     def shadow_mask(self, target: StencilTarget, method: str, casters: Iterable[tuple[np.ndarray, np.ndarray]],
-                    light, view_proj: np.ndarray) -> ShadowMask:
+                    light, view_proj: np.ndarray, bounds: Bounds = None) -> ShadowMask:
         """The casters' (positions, triangles) volumes for `light`, marked in `target`'s stencil (cleared first)
         over the scene depth already in it, read back."""
         volumes = [volume(method, positions, triangles, light) for positions, triangles in casters]
         clear_stencil(target.fbo)
-        drawn = self.mark(target.fbo, method, volumes, view_proj)
+        drawn = self.mark(target.fbo, method, volumes, view_proj, bounds)
         mask = shadowed(method, target.read_stencil()) & (target.read_depth() < 1.0)
         return ShadowMask(mask, drawn, sum(v.extruded_edges for v in volumes))
 
     def _draw(self, fbo: moderngl.Framebuffer, buffers: Sequence[VolumeBuffer], view_proj: np.ndarray,
-              state: StencilState) -> int:
+              state: StencilState, bounds: Bounds = None) -> int:
         """Returns the triangles drawn."""
         triangles = sum(b.triangles for b in buffers)
         if not triangles:
             return 0
         program = self.shaders.program(PROGRAM)
         program["u_view_proj"].value = gl_matrix(view_proj)
-        fbo.use()  # before the state: use() re-applies the framebuffer's colour and depth masks
-        with stencil_state(state):
+        fbo.use()  # before the state: use() re-applies the framebuffer's colour, depth masks and scissor
+        with stencil_state(state), depth_bounds(self.ctx, bounds):
             for b in buffers:
                 b.render(program)
         return triangles

@@ -2,8 +2,11 @@
 render settings its commands build (shadow map size, PCF kernel, bias)."""
 from __future__ import annotations
 
+from dataclasses import replace
+
 from app.gl.lights3d.renderer import Lights3DRenderer
 from app.gl.core.renderer_base import WorkspaceRendererBase
+from app.model.lights3d.render_settings import Lights3DRenderSettings
 
 
 class Lights3DWorkspaceRenderer(WorkspaceRendererBase):
@@ -12,6 +15,10 @@ class Lights3DWorkspaceRenderer(WorkspaceRendererBase):
         self.lights = Lights3DRenderer(ctx, shaders)
 
     def render(self, fbo, state, settings, interactive: bool = False) -> bool:
-        self.lights.render(fbo, state.scene, state.camera, settings, state.selection)
+        self.lights.render(fbo, state.scene, state.camera, settings, state.selection,
+                           marks=settings is None or settings.overlays)
         return False  # every frame is whole: volumes and maps are kept, not reduced, while the view moves
+
+    def without_overlays(self, settings: Lights3DRenderSettings | None) -> Lights3DRenderSettings:
+        return replace(settings or Lights3DRenderSettings(), overlays=False)
 

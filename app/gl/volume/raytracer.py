@@ -1,4 +1,5 @@
-"""The volume ray tracer: every Tex3Dtrace mode (app/model/volume/render_modes.py), one pass or two."""
+"""The volume ray tracer: every Tex3Dtrace mode (app/model/volume/render_modes.py), one pass or two, and a scalar
+volume's modes (app/model/volume/scalar_modes.py), one pass."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -10,11 +11,14 @@ from scipy.ndimage import distance_transform_edt
 from app.gl.core.texture_units import TextureUnits
 from app.gl.core.uniforms import set_uniforms
 from app.gl.core.vertex_arrays import VertexArrays
+from app.gl.volume.label_texture import LabelTexture
+from app.gl.volume.scalar_texture import ScalarTexture
 from app.gl.volume.texture import VolumeTexture
 from app.model.volume.voxels import VolumeWatch, Voxels
 from app.model.volume import render_modes as rm
 from app.model.volume.render_modes import TraceSettings
-from app.model.volume.view import AXIS_INDEX, VolumeView, box_extents
+from app.model.volume.scalar_modes import ISO_MODE, mode_number
+from app.model.volume.view import AXIS_INDEX, VolumeView, box_extents, voxel_extent
 from app.model.transforms import gl_matrix
 
 EDITED_SLICE = (0.35, 0.85, 1.0, 0.10)   # faint: where the painter works
@@ -104,6 +108,8 @@ class RayTracer:
         self.shaders = shaders
         self.volume = VolumeTexture(ctx)
         self.distance = DistanceTexture(ctx)
+        self.labels = LabelTexture(ctx)  # a scan's labels, over whatever the mode draws
+        self.scalars = ScalarTexture(ctx)
         # Trilinear with a transparent border: the volume floats in empty space, so a voxel on the box's face is
         # a surface with an outward normal, as one inside is (clamped to its edge, its gradient pointed inwards
         # and the voxel shaded black). The reference samples the same way.
@@ -136,20 +142,25 @@ class RayTracer:
         program = self.shaders.program("box_edges")
         view_proj = cam.clip_from_world((w, h))
         set_uniforms(program, {"u_view_proj": gl_matrix(view_proj), "u_color": WIREFRAME,
-                            "u_extent": box_extents(voxels.size)})
+                            "u_extent": box_extents(voxels.size, voxels.spacing)})
         fbo.use()
         self._edges.get(program).render(moderngl.LINES)
 
     def _render(self, fbo: moderngl.Framebuffer, voxels, view: VolumeView, cam, settings: TraceSettings) -> None:
-        mode = rm.MODES[settings.mode]
+        scalar = settings.scalar_mode != "colour" and voxels.scalars is not None  # else the F-mode's colours
+        mode = rm.MODES[5 if scalar else settings.mode]  # iso is lit as F5
         w, h = fbo.size
         view_proj = cam.clip_from_world((w, h))
-        extent = np.array(box_extents(voxels.size), dtype="f4")
+        extent = np.array(box_extents(voxels.size, voxels.spacing), dtype="f4")
         uniforms = self._uniforms(voxels, view, settings, mode, extent)
         uniforms["u_eye"] = tuple(cam.position())
+        uniforms.update(self.labels.uniforms(voxels.labels, settings.label_opacity, self.units))
+        if scalar:
+            self._render_scalars(fbo, voxels, settings, uniforms, view_proj)
+            return
         # one volume at two units, read through two samplers
         uniforms.update(self.units.bind(u_volume=self.volume.sync(voxels), u_nearest=self.volume.texture),
-                        u_distance=self.units["u_distance"])
+                        u_distance=self.units["u_distance"], u_scalars=self.units["u_scalars"], u_field=0)
         self.units.bind(u_volume=self.linear, u_nearest=self.nearest)
         if mode.distance:
             self.units.bind(u_distance=self.distance.sync(voxels))
@@ -168,12 +179,30 @@ class RayTracer:
             self.ctx.disable(moderngl.CULL_FACE)
         else:
             program = self.shaders.program("raytrace")
-            uniforms["u_inv_view_proj"] = gl_matrix(np.linalg.inv(view_proj))
+            uniforms.update(u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)), u_scalar_mode=0)
+            uniforms.update(self.units.uniforms("u_colormap", "u_opacity", "u_bricks"))  # unread: their own units
             set_uniforms(program, uniforms)
             fbo.use()
             self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
         self.linear.clear(self.units["u_volume"])
         self.nearest.clear(self.units["u_nearest"])
+
+    def _render_scalars(self, fbo: moderngl.Framebuffer, voxels, settings: TraceSettings, uniforms: dict,
+                        view_proj: np.ndarray) -> None:
+        """The one-pass tracer on the values; the RGBA texture is left as it is (synced when colour shows again)."""
+        scalars = voxels.scalars
+        self.scalars.sync(scalars)
+        uniforms.update(self.scalars.uniforms(scalars.transfer), u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)),
+                        u_scalar_mode=mode_number(settings.scalar_mode), u_iso=float(settings.iso),
+                        u_field=int(settings.scalar_mode == ISO_MODE),
+                        u_mip_attenuation=float(settings.mip_attenuation))
+        uniforms.update(self.units.bind(u_scalars=self.scalars.values, u_colormap=self.scalars.colours,
+                                        u_opacity=self.scalars.opacity, u_bricks=self.scalars.bricks))
+        uniforms.update(self.units.uniforms("u_volume", "u_nearest", "u_distance"))  # unread: their own units
+        program = self.shaders.program("raytrace")
+        set_uniforms(program, uniforms)
+        fbo.use()
+        self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
 
     def _entry_pass(self, size, view_proj: np.ndarray, extent: np.ndarray) -> moderngl.Texture:
         if self._entry is None or self._entry[0] != size:
@@ -203,7 +232,7 @@ class RayTracer:
             "u_shadow_offset": float(s.shadow_offset),
             "u_extent": tuple(extent),
             "u_voxels": tuple(float(v) for v in voxels.size),
-            "u_voxel": 2.0 / max(voxels.size),
+            "u_voxel": voxel_extent(voxels.size, voxels.spacing),
             "u_steps": float(s.steps),
             "u_shadow_steps": int(s.shadow_steps),
             "u_sample_range": float(s.sample_range),

@@ -24,6 +24,9 @@ class VolumeWorkspaceRenderer(WorkspaceRendererBase):
     def cheaper(self, settings: TraceSettings, cheap: int) -> TraceSettings:
         return replace(settings, steps=max(MIN_STEPS, settings.steps * STEP_FACTORS[cheap]))
 
+    def without_overlays(self, settings: TraceSettings) -> TraceSettings:
+        return replace(settings, slice_planes=False)
+
     def render(self, fbo, state, settings: TraceSettings, interactive: bool = False) -> bool:
         self.tracer.render(fbo, state.volume.voxels, state.view, settings)
         return self.tracer.distance.stale

@@ -10,6 +10,9 @@ import math
 from typing import TYPE_CHECKING, get_type_hints
 from dataclasses import dataclass, field, fields, replace
 
+from app.model.clouds.atmosphere import Atmosphere, physical_light
+from app.model.clouds.exposure import ToneSettings
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -27,8 +30,7 @@ FAR_LIGHT_STEPS = 32.0         # the far light sample, in light steps beyond the
 FAR_WEIGHT = 3.0               # ... and the light steps it stands for
 LONG_LIGHT_SAMPLES = 30        # light_samples 30: the cone, then 25 samples 4 light steps apart
 LONG_SPACING = 4.0
-OCTAVES = 3                    # multiple scattering (Wrenninge): octave i scales by a^i, b^i, c^i
-OCTAVE_A = OCTAVE_B = OCTAVE_C = 0.5
+OCTAVES = 3                    # multiple scattering (Wrenninge): octave i scales by a^i, b^i, c^i (the octave_* params)
 GROUND_SHADOW_SAMPLES = 8      # density samples along the sun ray through the layer above a ground point
 # The seed's cloud-type height profiles (its camera prefab's gradients): smoothstep(x, y) - smoothstep(z, w)
 # of the height fraction, stratus / stratocumulus / cumulus at type 0 / 0.5 / 1.
@@ -40,6 +42,9 @@ SUN_LOW_COLOR = (1.0, 0.31, 0.0)
 SKY_ZENITH = (0.24, 0.45, 0.85)
 SKY_HORIZON = (0.70, 0.80, 0.95)
 GROUND_ALBEDO = (0.20, 0.21, 0.17)
+# The physical sky's air: Earth's (Hillaire's preset, 100 km deep) over this planet (docs/clouds.md, "The sky
+# and the atmosphere", says what the small planet changes).
+ATMOSPHERE = Atmosphere(bottom=PLANET_RADIUS, top=PLANET_RADIUS + 100_000.0, ground_albedo=GROUND_ALBEDO)
 
 
 @dataclass(frozen=True)
@@ -53,9 +58,10 @@ class Param:
     choices: tuple = ()
 
 
-def _param(default: float, lo: float, hi: float, text: str, choices: tuple = ()):
-    """A CloudParams field that carries its range and help text, so each parameter is written once."""
-    return field(default=default, metadata={"lo": lo, "hi": hi, "text": text, "choices": choices})
+def _param(default: float, lo: float, hi: float, text: str, choices: tuple = (), added: bool = False):
+    """A CloudParams field that carries its range and help text, so each parameter is written once. `added`: a
+    parameter newer than recorded demos, which the digest leaves out while it keeps its default."""
+    return field(default=default, metadata={"lo": lo, "hi": hi, "text": text, "choices": choices, "added": added})
 
 
 @dataclass(frozen=True)
@@ -79,8 +85,16 @@ class CloudParams:
     direct: float = _param(1.0, 0.0, 1.5, "sun light factor")
     hg_forward: float = _param(0.54, 0.0, 0.99, "Henyey-Greenstein forward lobe g")
     hg_back: float = _param(0.5, 0.0, 0.99, "Henyey-Greenstein back lobe g (used as -g)")
+    hg_back_weight: float = _param(0.5, 0.0, 1.0, "the back lobe's weight in the phase, the forward's 1 minus it",
+                                   added=True)
     light_step: float = _param(48.0, 1.0, 200.0, "light march step length, metres")
     cone_radius: float = _param(0.4, 0.0, 2.0, "light cone radius, in light steps")
+    octave_scattering: float = _param(0.5, 0.0, 1.0, "multiple scattering: octave i's weight a^i (a <= b)",
+                                      added=True)
+    octave_extinction: float = _param(0.5, 0.0, 1.0, "multiple scattering: octave i's optical depth to the sun x b^i",
+                                      added=True)
+    octave_eccentricity: float = _param(0.5, 0.0, 1.0, "multiple scattering: octave i's phase g x c^i",
+                                        added=True)
     wind_speed: float = _param(15.9, 0.0, 200.0, "low cloud (noise) wind speed, m/s")
     wind_dir: float = _param(-22.4, -360.0, 360.0, "low cloud wind direction, degrees")
     weather_wind_speed: float = _param(25.0, 0.0, 200.0, "weather map wind speed, m/s")
@@ -95,7 +109,17 @@ class CloudParams:
     light_samples: int = _param(6, 6, 30,
                                 "light march samples: 6 (5 cone + 1 far) or 30 (clouds shadow each other)", (6, 30))
     multiscatter: int = _param(1, 0, 1, "multiple scattering by octaves (0: the seed's double Beer)")
+    phase_max: int = _param(0, 0, 1, "phase: 0 the two lobes' normalised mix, 1 the seed's max of them (makes "
+                                     "light; for comparison)", (0, 1), added=True)
     ground_shadows: int = _param(1, 0, 1, "cloud shadows on the ground")
+    physical_sky: int = _param(1, 0, 1, "sky, sun and ambient light from a physical atmosphere (Hillaire 2020); "
+                                        "0: the seed's colours from the sun's height", added=True)
+
+    def __repr__(self) -> str:
+        """The state digests hash this: an added parameter shows only when set, so a demo recorded before it
+        existed replays to the digest it had."""
+        shown = (f for f in fields(self) if not (f.metadata["added"] and getattr(self, f.name) == f.default))
+        return f"CloudParams({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in shown)})"
 
     def with_value(self, name: str, value: float) -> "CloudParams":
         """A copy with `name` set, or ParamError saying what is allowed (nothing changes)."""
@@ -107,6 +131,9 @@ class CloudParams:
         out = replace(self, **checked)
         if out.shape_min >= out.shape_max:
             raise ParamError("shape_min must stay below shape_max")
+        if out.octave_scattering > out.octave_extinction:
+            raise ParamError("octave_scattering must not exceed octave_extinction (Wrenninge's a <= b: an octave "
+                             "would scatter more light than it extinguishes)")
         return out
 
     def values(self) -> dict[str, float]:
@@ -195,8 +222,19 @@ class Frame:
     ambient_top: tuple
     sky_zenith: tuple
     sky_horizon: tuple
+    physical_sky: int         # 1: the sky, the light on the clouds and the ground, and the haze from the air
+    sun_illuminance: float    # the physical sky's radiance per unit of its tables
+    direct: float             # the sun's light on the ground, times (the physical sky's)
+    sun_light_top: tuple      # the sun's light at the layer's top (sun_light: at its base)
+    cirrus_light: tuple       # the sun's light at the cirrus (the physical sky's)
+    cirrus_ambient: tuple     # the sky's light there
     g_forward: float
     g_back: float             # negative: the back lobe
+    back_weight: float        # the back lobe's weight in the phase's mix (the forward's is 1 - back_weight)
+    phase_max: int            # 1: the seed's max of the two lobes instead of their mix
+    octave_scattering: float  # Wrenninge's a, b, c (app.model.clouds.scene.OCTAVES octaves)
+    octave_extinction: float
+    octave_eccentricity: float
     extinction: float         # sigma_t per metre per unit cloud sample
     shape_freq: float         # texture repeats per metre
     detail_freq: float
@@ -223,6 +261,7 @@ class Frame:
     multiscatter: int
     ground_shadows: int
     blend: float              # weight of the new weather map, 0..1
+    furnace: int = 0          # 1: the white furnace's unit environment (furnace(), a test of energy conservation)
 
 
 def _wind(speed: float, deg: float) -> tuple[float, float]:
@@ -247,15 +286,24 @@ def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: f
     hx, hz = _wind(params.high_wind_speed, params.high_wind_dir)
     a = math.radians(params.wind_dir)
     sky = max(0.05, fade)
+    seed_sun = tuple(c * params.direct * fade for c in sun_color)
+    if params.physical_sky:
+        light = physical_light(ATMOSPHERE, sun[1], params.direct, params.ambient / PARAM["ambient"].default,
+                               (LAYER_BOTTOM, LAYER_TOP, CIRRUS_ALTITUDE))
+    else:
+        light = dict(sun_light=seed_sun, sun_light_top=seed_sun, cirrus_light=seed_sun,
+                     ambient_base=tuple(c * ambient for c in CLOUD_BASE_COLOR),
+                     ambient_top=tuple(c * ambient for c in CLOUD_TOP_COLOR),
+                     cirrus_ambient=tuple(c * ambient for c in CLOUD_TOP_COLOR), sun_illuminance=1.0)
     return Frame(
         camera=(0.0, view.altitude, 0.0), forward=f, right=r, up=u,
-        tan_half_fov=math.tan(math.radians(FOV_Y_DEG) / 2), sun_dir=sun,
-        sun_light=tuple(c * params.direct * fade for c in sun_color),
-        ambient_base=tuple(c * ambient for c in CLOUD_BASE_COLOR),
-        ambient_top=tuple(c * ambient for c in CLOUD_TOP_COLOR),
+        tan_half_fov=math.tan(math.radians(FOV_Y_DEG) / 2), sun_dir=sun, **light,
         sky_zenith=tuple(c * sky for c in SKY_ZENITH),
         sky_horizon=tuple(c * sky for c in _lerp3(sun_color, SKY_HORIZON, 0.5 + 0.5 * fade)),
-        g_forward=params.hg_forward, g_back=-params.hg_back * fade ** 3,
+        physical_sky=params.physical_sky, direct=params.direct,
+        g_forward=params.hg_forward, g_back=-params.hg_back * fade ** 3, back_weight=params.hg_back_weight,
+        phase_max=params.phase_max, octave_scattering=params.octave_scattering,
+        octave_extinction=params.octave_extinction, octave_eccentricity=params.octave_eccentricity,
         extinction=EXTINCTION * params.density, shape_freq=noise, detail_freq=noise * params.detail_scale,
         curl_freq=noise * params.curl_scale, curl_amount=150.0 + params.curl_amount, weather_freq=weather,
         high_coverage_freq=params.high_coverage_scale * params.weather_scale * 0.001,
@@ -270,6 +318,16 @@ def frame(params: CloudParams, view: CloudView, wind_time: float = 0.0, blend: f
         light_step=params.light_step, cone_radius=params.cone_radius, light_samples=params.light_samples,
         shape_noise=params.shape_noise, detail_noise=params.detail_noise, curl_noise=params.curl_noise,
         multiscatter=params.multiscatter, ground_shadows=params.ground_shadows, blend=blend)
+
+
+def furnace(fr: Frame) -> Frame:
+    """The white furnace: the frame under a uniform environment of radiance 1 (the sky 1 in every direction,
+    no ground, the ambient 1, no atmosphere between), the sun left as it is (`direct` 0 turns it off). Clouds of
+    albedo 1 that conserve energy vanish in it with the sun off (docs/clouds.md, "Energy"); r_cloudFurnace shows
+    it. The physical sky's tables play no part: its sky and ambient give way to the unit ones, its haze to none."""
+    one = (1.0, 1.0, 1.0)
+    return replace(fr, ambient_base=one, ambient_top=one, cirrus_ambient=one, sky_zenith=one, sky_horizon=one,
+                   physical_sky=0, furnace=1)
 
 
 @dataclass(frozen=True)
@@ -300,6 +358,8 @@ class CloudRenderSettings:
     detail_skip: bool = True      # detail and curl only where the shape is above 0, nothing where coverage is 0
     reproject: bool = True        # trace one pixel of each downsample^2 block a frame, reproject the rest
     debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
+    furnace: bool = False         # the white furnace test's environment (furnace()), not the scene's sky
     integration: str = "energy"   # or "seed"
     reproject_downsample: int = 1  # the reprojected picture is 1/this of the output on each axis (no cvar: the
                                    # host's cheapest full-size level of a drag)
+    tone: ToneSettings = ToneSettings()  # exposure and the tone curve (app/model/clouds/exposure.py)

@@ -396,3 +396,4 @@ class Shading2D:
     flip_y: bool = False          # a y-down world (screen coordinates), as with Penumbra's SpriteBatch transform
     normal_maps: bool = True
     debug: bool = False           # the editor's overlay: hulls, lights and their reach as wireframe
+    overlays: bool = True         # the editor's marks: light icons, hull outlines, the selection (not in a render)

@@ -56,7 +56,8 @@ SIZE_NAMES = {
 }
 COUNT_NAMES = ("segments", "sides")
 LIGHT_KINDS = ("point", "spot", "directional")
-SHADOW_METHODS = ("onepass", "zpass", "zfail", "map", "none")  # onepass: seed 002's orientation-free stencil
+# onepass: seed 002's orientation-free stencil, each triangle's volume closed; onepass-seed: open, as the seed's
+SHADOW_METHODS = ("onepass", "onepass-seed", "zpass", "zfail", "map", "none")
 
 MAX_OBJECTS = 64
 MAX_LIGHTS = 8

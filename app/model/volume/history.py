@@ -1,5 +1,6 @@
-"""A volume's undo history: steps that take its voxels back and forth (a changed sub-box, a quarter turn, a whole
-image swapped, a window), capped by count and bytes, and the preview of a stroke in progress, kept out of it."""
+"""A volume's undo history: steps that take its voxels back and forth (a changed sub-box of the colours or of a
+scan's labels, a quarter turn, a whole image swapped, a window, a label's colour, a spacing), capped by count and
+bytes, and the preview of a stroke in progress, kept out of it."""
 from __future__ import annotations
 
 from collections import deque
@@ -7,8 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from app.model.volume.labels import Labels
 from app.model.volume.scalars import Scalars, TransferFunction
-from app.model.volume.voxels import Box, Voxels
+from app.model.volume.voxels import DEFAULT_SPACING, Box, Spacing, Voxels
 
 UNDO_STEPS = 256
 UNDO_BYTES = 512 << 20
@@ -16,28 +18,32 @@ UNDO_BYTES = 512 << 20
 
 @dataclass
 class Patch:
-    """A changed sub-box; `other` holds its contents in the state not currently shown (swapped on undo/redo).
-    An edit of a scalar volume bakes its window into the colours: `scalars` holds the scalars in the state not
-    shown, as `other` does the voxels (and `baked` their size, counted whichever state holds them)."""
+    """A changed sub-box of the colours, or of a scan's `labels`; `other` holds its contents in the state not
+    currently shown (swapped on undo/redo). `allocated`: the edit painted the scan's first label, so undone the
+    labels hold none again (as before it), and redone they are made again."""
 
     box: Box
     other: np.ndarray
     serial: int = 0  # when it was pushed: a batch groups the steps pushed after its mark
-    scalars: Scalars | None = None
-    baked: int = 0
     name: str = ""  # what Edit > Undo calls it ("Stroke")
+    labels: bool = False
+    allocated: bool = False
 
     @property
     def nbytes(self) -> int:
-        return self.other.nbytes + self.baked
+        return self.other.nbytes
 
     def apply(self, voxels: Voxels, undo: bool) -> None:
-        view = voxels.data[self.box.slices()]
+        target = voxels.labels if self.labels else voxels
+        if self.allocated and not undo:
+            target.allocate()
+        view = target.data[self.box.slices()]
         shown = view.copy()
         view[...] = self.other
         self.other = shown
-        voxels.scalars, self.scalars = self.scalars, voxels.scalars
-        voxels.changed(self.box)
+        if self.allocated and undo:
+            target.release()
+        target.changed(self.box)
 
 
 @dataclass
@@ -59,15 +65,30 @@ class Swap:
     nbytes: int  # what the replaced image held: fixed, as undo and redo swap images of other sizes in and out
     serial: int = 0
     name: str = ""
+    labels: Labels | None = None  # and its labels
+    spacing: Spacing = DEFAULT_SPACING  # and its spacing
 
     @classmethod
     def of(cls, voxels: Voxels, name: str) -> Swap:
         """The step that brings back what `voxels` show now."""
-        data, scalars = voxels.data, voxels.scalars
-        return cls(data, scalars, data.nbytes + (scalars.nbytes if scalars else 0), name=name)
+        data, scalars, labels = voxels.data, voxels.scalars, voxels.labels
+        held = data.nbytes + (scalars.nbytes if scalars else 0) + (labels.nbytes if labels else 0)
+        return cls(data, scalars, held, name=name, labels=labels, spacing=voxels.spacing)
 
     def apply(self, voxels: Voxels, undo: bool) -> None:
-        self.other, self.scalars = voxels.swap(self.other, self.scalars)
+        self.other, self.scalars, self.spacing = voxels.swap(self.other, self.scalars, self.spacing)
+        voxels.labels, self.labels = self.labels, voxels.labels
+
+
+@dataclass
+class Respace:
+    spacing: Spacing  # the spacing not currently shown
+    nbytes: int = 0
+    serial: int = 0
+    name: str = "Set Spacing"
+
+    def apply(self, voxels: Voxels, undo: bool) -> None:
+        self.spacing = voxels.respace(self.spacing)
 
 
 @dataclass
@@ -81,6 +102,18 @@ class Window:
         shown = voxels.scalars.transfer
         voxels.recolour(self.transfer)
         self.transfer = shown
+
+
+@dataclass
+class LabelColour:
+    label: int
+    rgb: tuple[int, int, int]  # the label's colour not currently shown
+    nbytes: int = 0
+    serial: int = 0
+    name: str = "Label Colour"
+
+    def apply(self, voxels: Voxels, undo: bool) -> None:
+        self.rgb = voxels.labels.set_colour(self.label, self.rgb)
 
 
 @dataclass
@@ -100,7 +133,7 @@ class Group:
             inner.apply(voxels, undo)
 
 
-Step = Patch | Turn | Swap | Window | Group
+Step = Patch | Turn | Swap | Window | LabelColour | Respace | Group
 
 
 class VoxelHistory:
@@ -114,7 +147,7 @@ class VoxelHistory:
         self._undo: deque[Step] = deque()
         self._redo: list[Step] = []
         self._pushes = 0
-        self._preview: Patch | None = None
+        self._preview: Patch | Window | None = None  # painted voxels, or a transfer function, shown unrecorded
         self.nbytes = 0  # what the undo and redo steps hold; a push clears redo, undo/redo only move steps
 
     @property
@@ -173,15 +206,11 @@ class VoxelHistory:
         elif steps:
             self._undo.append(Group(steps[::-1], serial=steps[0].serial, name=name))
 
-    def record(self, box: Box, before: np.ndarray, name: str) -> Box:
-        """A sub-box just written, whose contents were `before`, as one step; on a scalar volume the edit baked
-        the window into the colours, so the step keeps the scalars."""
-        patch = Patch(box, before, name=name)
-        voxels = self.voxels
-        if voxels.scalars is not None:
-            patch.scalars, patch.baked, voxels.scalars = voxels.scalars, voxels.scalars.nbytes, None
-        self.push(patch)
-        voxels.changed(box)
+    def record(self, box: Box, before: np.ndarray, name: str, labels: bool = False, allocated: bool = False) -> Box:
+        """A sub-box of the colours (of the labels) just written, whose contents were `before`, as one step
+        (Patch says what `allocated` is)."""
+        self.push(Patch(box, before, name=name, labels=labels, allocated=allocated))
+        (self.voxels.labels if labels else self.voxels).changed(box)
         return box
 
     def push(self, step: Step) -> None:
@@ -198,15 +227,23 @@ class VoxelHistory:
 
     # --- preview: an edit shown but kept out of the history ----------------------------------
 
-    def preview(self, box: Box, before: np.ndarray) -> Box:
+    def preview(self, box: Box, before: np.ndarray, labels: bool = False, allocated: bool = False) -> Box:
         """A sub-box just written, shown (and marked changed) but not recorded: every edit, undo or redo first
         puts the voxels back (`clear_preview`), so it can never mix with the history."""
-        self._preview = Patch(box, before)
-        self.voxels.changed(box)
+        self._preview = Patch(box, before, labels=labels, allocated=allocated)
+        (self.voxels.labels if labels else self.voxels).changed(box)
         return box
 
+    def preview_transfer(self, transfer: TransferFunction) -> None:
+        """A transfer function shown but not recorded (an opacity point being dragged), put back as `preview`'s."""
+        self.clear_preview()
+        self._preview = Window(self.voxels.scalars.transfer)
+        self.voxels.recolour(transfer)
+
     def clear_preview(self) -> None:
-        if self._preview is not None:
+        if isinstance(self._preview, Window):
+            window, self._preview = self._preview, None
+            window.apply(self.voxels, undo=True)
+        elif self._preview is not None:
             patch, self._preview = self._preview, None
-            self.voxels.data[patch.box.slices()] = patch.other
-            self.voxels.changed(patch.box)
+            patch.apply(self.voxels, undo=True)

@@ -1,6 +1,7 @@
 """Painting a volume's voxels: single voxels, gap-free brush strokes along a slice, flood fills and a 3x3x3
 smoothing, each written into the voxels and handed to the history as one undo step (a stroke in progress as
-its preview)."""
+its preview). An RGBA volume is painted in colours; a scan (a scalar volume) in labels over its values, which stay
+as loaded (app/model/volume/labels.py)."""
 from __future__ import annotations
 
 import math
@@ -12,6 +13,7 @@ import numpy as np
 from scipy import ndimage
 
 from app.model.volume.history import VoxelHistory
+from app.model.volume.labels import Labels, check_label
 from app.model.volume.voxels import MAX_SIDE, Box, VolumeError, Voxels, whole
 
 MAX_COORD = 1 << 24      # stroke points beyond this are no mouse position: refuse before the line maths overflows
@@ -26,6 +28,17 @@ def _colour(rgba: Sequence[int]) -> np.ndarray:
     if len(vals) != 4 or not all(0 <= c <= 255 for c in vals):
         raise VolumeError(f"colour must be four whole numbers 0..255 (r, g, b, a), got {rgba!r}")
     return np.array(vals if vals[3] else [0, 0, 0, 0], dtype=np.uint8)  # alpha 0 erases
+
+
+def _differs(region: np.ndarray, value: np.ndarray) -> np.ndarray:
+    """Where a region of a slice (colours (v, u, 4), or labels (v, u)) is not `value`."""
+    return (region != value).any(-1) if region.ndim == 3 else region != value
+
+
+def _connected(mask: np.ndarray, u: int, v: int) -> np.ndarray:
+    """The 4-connected part of `mask` (v, u) holding (u, v); nothing if (u, v) is outside it."""
+    parts, _ = ndimage.label(mask)  # default structure: 4-connected
+    return (parts == parts[v, u]) & mask
 
 
 def _stroke_points(points: list[tuple[int, int]]) -> list[tuple[int, int]]:
@@ -151,8 +164,10 @@ def _plane_box(axis: str, k: int, u0: int, u1: int, v0: int, v1: int) -> Box:
 
 
 class Painting:
-    """The edits of a volume's voxels a box at a time. Each returns the box it changed (None: nothing changed,
-    and no step); the voxels' previous contents there go to the history."""
+    """The edits of a volume's voxels a box at a time: an RGBA volume's colours, a scan's labels (the `*_label`
+    edits; label 0 erases). Each returns the box it changed (None: nothing changed, and no step); the previous
+    contents there go to the history. A scan's first label allocates its labels, and that edit's step releases
+    them when undone; an edit that paints nothing leaves none allocated."""
 
     def __init__(self, voxels: Voxels, history: VoxelHistory) -> None:
         self.voxels = voxels
@@ -160,20 +175,22 @@ class Painting:
 
     def set_voxel(self, x: int, y: int, z: int, rgba: Sequence[int]) -> None:
         self.history.clear_preview()
-        z, y, x = self.voxels.array_index(x, y, z)
-        colour = _colour(rgba)
-        if not np.array_equal(self.voxels.data[z, y, x], colour):
-            box = Box(x, y, z, x + 1, y + 1, z + 1)
-            view = self.voxels.data[box.slices()]
-            before = view.copy()
-            view[...] = colour
-            self.history.record(box, before, "Paint Voxel")
+        self.voxels.require_colours()
+        painted = self._set(self.voxels, x, y, z, _colour(rgba))
+        if painted is not None:
+            self.history.record(*painted, "Paint Voxel")
+
+    def set_label(self, x: int, y: int, z: int, label: int) -> Box | None:
+        self.history.clear_preview()
+        label = check_label(label)
+        return self._labelled(label, lambda labels: self._set(labels, x, y, z, np.uint8(label)), "Label Voxel")
 
     def stroke(self, axis: str, index: int, size: int, rgba: Sequence[int], points: list[tuple[int, int]],
                round_brush: bool = True) -> Box | None:
         """Stamp the brush along the polyline through `points` (slice u, v); returns the changed box."""
         self.history.clear_preview()
-        painted = self._stroke(axis, index, size, rgba, points, round_brush)
+        self.voxels.require_colours()
+        painted = self._stroke(self.voxels, axis, index, size, _colour(rgba), points, round_brush)
         return None if painted is None else self.history.record(*painted, "Stroke")
 
     def preview_stroke(self, axis: str, index: int, size: int, rgba: Sequence[int], points: list[tuple[int, int]],
@@ -181,29 +198,41 @@ class Painting:
         """Paint a stroke that is shown (and marked changed) but not recorded: the next preview, any
         edit, undo or redo first puts the voxels back, so it can never mix with the history."""
         self.history.clear_preview()
-        painted = self._stroke(axis, index, size, rgba, points, round_brush)
+        self.voxels.require_colours()
+        painted = self._stroke(self.voxels, axis, index, size, _colour(rgba), points, round_brush)
         return None if painted is None else self.history.preview(*painted)
+
+    def stroke_label(self, axis: str, index: int, size: int, label: int, points: list[tuple[int, int]],
+                     round_brush: bool = True, preview: bool = False) -> Box | None:
+        """A stroke of `label` over a scan (0 erases); with `preview`, shown but not recorded (preview_stroke)."""
+        self.history.clear_preview()
+        label = check_label(label)
+        return self._labelled(label, lambda labels: self._stroke(labels, axis, index, size, np.uint8(label), points,
+                                                                 round_brush), "Label Stroke", preview)
 
     def fill(self, axis: str, index: int, u: int, v: int, rgba: Sequence[int], tolerance: int = 0) -> Box | None:
         """Flood the 4-connected region of the slice around (u, v) whose every channel (r, g, b, a) is within
         `tolerance` (0..255) of the colour at (u, v); 0: exactly that colour."""
         self.history.clear_preview()
-        plane = self.voxels.plane(axis, index)
-        u, v, colour, tolerance = whole("u", u), whole("v", v), _colour(rgba), whole("fill tolerance", tolerance)
-        vs, us = plane.shape[:2]
-        if not (0 <= u < us and 0 <= v < vs):
-            raise VolumeError(f"fill point ({u}, {v}) is outside the {us} x {vs} slice")
-        if not 0 <= tolerance <= 255:
-            raise VolumeError(f"fill tolerance must be within 0..255, got {tolerance}")
-        seed = plane[v, u].tolist()
-        similar = np.ones((vs, us), bool)
-        for c in range(4):  # a channel at a time, compared in the voxels' own uint8
-            lo, hi = max(seed[c] - tolerance, 0), min(seed[c] + tolerance, 255)
-            similar &= (plane[..., c] >= lo) & (plane[..., c] <= hi)
-        labels, _ = ndimage.label(similar)  # default structure: 4-connected
-        changes = (labels == labels[v, u]) & (plane != colour).any(-1)  # nothing when the seed has the colour
-        painted = self._paint_plane(axis, index, plane, changes, colour, 0, 0)
+        self.voxels.require_colours()
+        plane, similar, u, v = self._similar(axis, index, u, v, tolerance)
+        painted = self._paint_plane(self.voxels, axis, index, plane, _connected(similar, u, v), _colour(rgba), 0, 0)
         return None if painted is None else self.history.record(*painted, "Fill")
+
+    def fill_label(self, axis: str, index: int, u: int, v: int, label: int, tolerance: int = 0) -> Box | None:
+        """Flood `label` over the 4-connected region of a scan's slice around (u, v) that has the label found
+        there and whose window colours are within `tolerance` of those at (u, v), compared as `fill` compares
+        (0: exactly that colour; 255: the labels alone bound it). The scan is read, never written."""
+        self.history.clear_preview()
+        label = check_label(label)
+        _plane, similar, u, v = self._similar(axis, index, u, v, tolerance)
+
+        def paint(labels: Labels) -> tuple[Box, np.ndarray] | None:
+            plane = labels.plane(axis, index)
+            region = _connected(similar & (plane == plane[v, u]), u, v)
+            return self._paint_plane(labels, axis, index, plane, region, np.uint8(label), 0, 0)
+
+        return self._labelled(label, paint, "Label Fill")
 
     def smooth(self, box: Box | None = None) -> Box | None:
         """3x3x3 box filter over `box` (default: all), reading neighbours beyond it, edge-clamped at the border.
@@ -213,6 +242,7 @@ class Painting:
         from the undo copy where earlier tiles have already overwritten them.
         """
         self.history.clear_preview()
+        self.voxels.require_colours()
         full = self.voxels.full_box()
         box = full if box is None else box.intersect(full)
         if box.empty:
@@ -225,11 +255,65 @@ class Painting:
             self.voxels.data[tile.slices()] = mean
         return self.history.record(changed, before, "Smooth")
 
-    def _stroke(self, axis: str, index: int, size: int, rgba: Sequence[int], points: list[tuple[int, int]],
-                round_brush: bool) -> tuple[Box, np.ndarray] | None:
-        """Paint the stroke; (the changed box, its voxels before), None if none changed."""
+    def _labelled(self, label: int, paint, name: str, preview: bool = False) -> Box | None:
+        """Run `paint(labels)` (which returns the changed box and its labels before, or None) on the scan's
+        labels, allocated first if they were not, and keep the change as the step `name` (or its preview)."""
+        labels = self.voxels.require_labels()
+        fresh = labels.data is None
+        if fresh and label == 0:
+            return None  # erasing where no label was ever painted
+        labels.allocate()
+        try:
+            painted = paint(labels)
+        except Exception:
+            if fresh:
+                labels.release()
+            raise
+        if painted is None:
+            if fresh:
+                labels.release()
+            return None
+        if preview:
+            return self.history.preview(*painted, labels=True, allocated=fresh)
+        return self.history.record(*painted, name, labels=True, allocated=fresh)
+
+    def _plane(self, layer: Voxels | Labels, axis: str, index: int) -> np.ndarray:
+        """The writable slice of the colours or of the allocated labels; the axis and index checked."""
         plane = self.voxels.plane(axis, index)
-        size, colour = whole("brush size", size), _colour(rgba)
+        return plane if layer is self.voxels else layer.plane(axis, whole("slice index", index))
+
+    def _set(self, layer: Voxels | Labels, x: int, y: int, z: int, value: np.ndarray) -> tuple[Box, np.ndarray] | None:
+        """Set one voxel's colour or label: (its box, what it held), None if it held that."""
+        z, y, x = self.voxels.array_index(x, y, z)
+        if np.array_equal(layer.data[z, y, x], value):
+            return None
+        box = Box(x, y, z, x + 1, y + 1, z + 1)
+        before = layer.data[box.slices()].copy()
+        layer.data[z, y, x] = value
+        return box, before
+
+    def _similar(self, axis: str, index: int, u: int, v: int,
+                 tolerance: int) -> tuple[np.ndarray, np.ndarray, int, int]:
+        """(the slice's colours, where every channel is within `tolerance` of (u, v)'s, u, v), checked."""
+        plane = self.voxels.plane(axis, index)
+        u, v, tolerance = whole("u", u), whole("v", v), whole("fill tolerance", tolerance)
+        vs, us = plane.shape[:2]
+        if not (0 <= u < us and 0 <= v < vs):
+            raise VolumeError(f"fill point ({u}, {v}) is outside the {us} x {vs} slice")
+        if not 0 <= tolerance <= 255:
+            raise VolumeError(f"fill tolerance must be within 0..255, got {tolerance}")
+        seed = plane[v, u].tolist()
+        similar = np.ones((vs, us), bool)
+        for c in range(4):  # a channel at a time, compared in the voxels' own uint8
+            lo, hi = max(seed[c] - tolerance, 0), min(seed[c] + tolerance, 255)
+            similar &= (plane[..., c] >= lo) & (plane[..., c] <= hi)
+        return plane, similar, u, v
+
+    def _stroke(self, layer: Voxels | Labels, axis: str, index: int, size: int, value: np.ndarray,
+                points: list[tuple[int, int]], round_brush: bool) -> tuple[Box, np.ndarray] | None:
+        """Paint the stroke; (the changed box, its voxels before), None if none changed."""
+        plane = self._plane(layer, axis, index)
+        size = whole("brush size", size)
         if not 1 <= size <= MAX_SIDE:
             raise VolumeError(f"brush size must be within 1..{MAX_SIDE}, got {size}")
         pts = _stroke_points(points)
@@ -244,18 +328,20 @@ class Painting:
             return None
         cover, u0, v0 = stamped
         region = plane[v0:v0 + cover.shape[0], u0:u0 + cover.shape[1]]
-        return self._paint_plane(axis, index, region, cover & (region != colour).any(-1), colour, u0, v0)
+        return self._paint_plane(layer, axis, index, region, cover, value, u0, v0)
 
-    def _paint_plane(self, axis: str, index: int, region: np.ndarray, mask: np.ndarray,
-                     colour: np.ndarray, u0: int, v0: int) -> tuple[Box, np.ndarray] | None:
-        """Paint `mask` of a slice region whose corner is (u0, v0): (the changed box, its voxels before)."""
+    def _paint_plane(self, layer: Voxels | Labels, axis: str, index: int, region: np.ndarray, mask: np.ndarray,
+                     value: np.ndarray, u0: int, v0: int) -> tuple[Box, np.ndarray] | None:
+        """Paint `value` over `mask` of a slice region whose corner is (u0, v0), where it is not that already:
+        (the changed box, what it held before)."""
+        mask = mask & _differs(region, value)
         hit = _bounds(mask)
         if hit is None:
             return None
         (a, b), (c, e) = hit
         box = _plane_box(axis, index, u0 + c, u0 + e, v0 + a, v0 + b)
-        before = self.voxels.data[box.slices()].copy()
-        region[a:b, c:e][mask[a:b, c:e]] = colour
+        before = layer.data[box.slices()].copy()
+        region[a:b, c:e][mask[a:b, c:e]] = value
         return box, before
 
     def _smooth_changes(self, box: Box) -> Box | None:

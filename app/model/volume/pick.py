@@ -11,7 +11,7 @@ from app.model.volume.voxels import Voxels
 def first_hit(voxels: Voxels, origin: np.ndarray, direction: np.ndarray) -> tuple[int, int, int] | None:
     """The first voxel with alpha > 0 along the ray, else the voxel where the ray enters the box,
     else None when the ray misses the box."""
-    extent = np.array(box_extents(voxels.size))
+    extent = np.array(box_extents(voxels.size, voxels.spacing))
     with np.errstate(divide="ignore", invalid="ignore"):
         t0, t1 = (-extent - origin) / direction, (extent - origin) / direction
     t_near = max(np.nanmax(np.minimum(t0, t1)), 0.0)

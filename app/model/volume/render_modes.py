@@ -7,6 +7,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from app.model.volume.labels import DEFAULT_OPACITY
+from app.model.volume.scalar_modes import MIP_ATTENUATION
+
 THRESHOLD = 0.3      # a surface: the first sample whose intensity exceeds this (of 3)
 AMBIENT = 0.2        # the seed's 10-20 % ambient
 DIFFUSE = 0.85
@@ -61,3 +64,9 @@ class TraceSettings:
     slice_planes: bool = True    # the edited and picked slices drawn over the volume (off to compare)
     shadow_offset: float = SHADOW_OFFSET
     eye_distance: float = 0.12   # world units between the eyes of the anaglyph pair
+    # a scalar volume's mode (app/model/volume/scalar_modes.py; colour: the F-mode above), its iso value (data units)
+    # and attenuated MIP's attenuation
+    scalar_mode: str = "colour"
+    iso: float = 0.0
+    mip_attenuation: float = MIP_ATTENUATION
+    label_opacity: float = DEFAULT_OPACITY  # a scan's labels over it (r_labelOpacity)

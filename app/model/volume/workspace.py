@@ -7,9 +7,9 @@ from typing import Callable
 import numpy as np
 
 from app.model.volume.volume import Volume
-from app.model.volume.voxels import Voxels
+from app.model.volume.voxels import DEFAULT_SPACING, Voxels
 from app.model.volume.samples import make
-from app.model.framing import orbit_distance
+from app.model.framing import filling_distance
 from app.model.volume.view import VolumeView, box_extents
 from app.model.workspace import Workspace, short_hash
 
@@ -66,8 +66,19 @@ class VolumeWorkspace(Workspace):
         self.view.index = self.volume.voxels.depth(self.view.axis) // 2
         self.clamp_slice()
 
+    def iso_value(self) -> float:
+        """The iso value iso mode draws: the one set (vol.iso), or the middle of the window (0 without scalars)."""
+        scalars = self.volume.voxels.scalars
+        if self.view.iso is not None:
+            return self.view.iso
+        return 0.0 if scalars is None else (scalars.transfer.low + scalars.transfer.high) / 2
+
     def version(self) -> tuple:
-        return self.volume.voxels.version, self.view.key()
+        labels = self.volume.voxels.labels
+        drawn = None if labels is None else (id(labels), labels.version, labels.colour_version)
+        scalars = self.volume.voxels.scalars  # an opacity curve changes no voxel, so not the voxels' version
+        return (self.volume.voxels.version, self.volume.voxels.spacing, drawn, self.view.key(),
+                scalars.transfer if scalars is not None else None)
 
     def digest(self) -> dict[str, str]:
         return {"volume": self.volume.voxels.digest(), "volume.view": short_hash(self.view.key())}
@@ -77,22 +88,31 @@ class VolumeWorkspace(Workspace):
 
     def frame_commands(self, aspect: float) -> list[str]:
         cam = self.view.camera
-        extent = np.array(box_extents(self.volume.voxels.size))
-        distance = orbit_distance(cam, -extent, extent, aspect)
+        extent = np.array(box_extents(self.volume.voxels.size, self.volume.voxels.spacing))
+        distance = filling_distance(cam, -extent, extent, aspect)  # the box spans 80 % of the view
         return [f"orbit {cam.yaw!r} {cam.pitch!r} {distance!r}"]
 
     def opening_commands(self, snapshot: Callable[..., str]) -> list[str]:
         """Commands that rebuild the volume and its view; voxels other than the default sample go into a
-        snapshot file beside the demo, a scalar volume's scalars into an .npy and its window into commands."""
+        snapshot file beside the demo, a scalar volume's scalars into an .npy (its labels beside it) and its window,
+        label colours and spacing into commands."""
         v, scalars = self.view, self.volume.voxels.scalars
         if scalars is not None:
             t = scalars.transfer
             lines = [f"load {snapshot('.npy')}", f"vol.colormap {t.colormap}",
                      f"vol.window {t.low!r} {t.high!r}"]
+            lines += [f"label.color {n} {' '.join(map(str, rgb))}"
+                      for n, rgb in self.volume.voxels.labels.recoloured().items()]
+            if t.points is not None:  # only then: a demo without a curve opens as it did before curves
+                lines.append("vol.opacity " + " ".join(f"{v!r} {a!r}" for v, a in t.points))
         elif self.volume.voxels.digest() == _default_digest():
             lines = [f"sample {DEFAULT_SAMPLE}"]
         else:
             lines = [f"load {snapshot()}"]
+        if (spacing := self.volume.voxels.spacing) != DEFAULT_SPACING:  # a snapshot keeps the voxels alone
+            lines.append(f"vol.spacing {' '.join(map(repr, spacing))}")
+        if v.iso is not None:
+            lines.append(f"vol.iso {v.iso!r}")
         return lines + [
             f"slice {v.axis} {v.index}", f"brush.color {' '.join(map(str, v.brush))}",
             f"orbit {v.camera.yaw!r} {v.camera.pitch!r} {v.camera.distance!r}",

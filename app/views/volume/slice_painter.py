@@ -3,7 +3,8 @@
 A stroke shows while the mouse is down (`stroke.preview`, not recorded) and becomes one `stroke`
 command on release: recorded, replayed and undone as a unit. Keys: a/d/w/s pan, h/j shrink/grow the
 drawing, right-drag zooms, and the `painter:` binds of default.cfg (q/e slices, 1-4 brush size,
-c colour, u/r undo/redo). Tools: brush, fill, eyedropper (or Alt+click).
+c colour, u/r undo/redo). Tools: brush, fill, eyedropper (or Alt+click). On a scan (a scalar volume) they paint,
+fill and pick labels over it (`label.stroke`, `label.fill`), drawn over the slice with their opacity.
 """
 from __future__ import annotations
 
@@ -13,13 +14,31 @@ from PySide6.QtGui import QBrush, QColor, QImage, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QHBoxLayout, QLabel, QPushButton, QSpinBox,
                                QToolButton, QVBoxLayout, QWidget)
 
+from app.commands.volume_labels import BRUSH_LABEL, OPACITY
 from app.model.volume.voxels import AXES
 from app.views.keys import key_name
+from app.views.volume.label_row import LabelRow
+from app.views.volume.scalar_mode_row import ScalarModeRow
 from app.views.volume.transfer_panel import TransferPanel
 
 NEIGHBOUR_OPACITY = 0.22  # the faint neighbouring slices under transparent voxels
 PAN_STEP = 0.1            # of the canvas per key press
 ZOOM_KEY = 1.25
+
+
+def _over_labels(rgba: np.ndarray, labels, view, opacity: float) -> None:
+    """Lay a scan's labels on its slice (v, u, 4) uint8 RGBA, each in its colour with `opacity`, over what is
+    there ("over" with straight alpha: a label on clear voxels shows its colour at that opacity)."""
+    plane = labels.plane(view.axis, view.index)
+    where = plane != 0
+    if not where.any():
+        return
+    under = rgba[where].astype(np.float32)
+    a = under[:, 3:] / 255 * (1 - opacity)
+    alpha = opacity + a
+    under[:, :3] = (labels.colours[plane[where]] * opacity + under[:, :3] * a) / np.maximum(alpha, 1e-6)
+    under[:, 3:] = alpha * 255
+    rgba[where] = under.round()
 
 
 class SliceCanvas(QWidget):
@@ -32,7 +51,7 @@ class SliceCanvas(QWidget):
         self.editor, self.state = editor, state
         self.tool = "brush"
         self.erase = False
-        self.zoom = 0.0  # pixels per voxel; 0 = fit on first paint
+        self.zoom = 0.0  # pixels per voxel along its shorter side; 0 = fit on first paint
         self.offset = QPointF(0, 0)  # canvas position of voxel (0, 0)
         self.points: list[tuple[int, int]] = []
         self.hover: tuple[int, int] | None = None
@@ -45,10 +64,23 @@ class SliceCanvas(QWidget):
         self.setCursor(Qt.CursorShape.BlankCursor)  # the brush outline is the cursor
 
     # -- geometry ---------------------------------------------------------------------------
+    def aspect(self) -> tuple[float, float]:
+        """A voxel's width and height in units of its shorter side: the slice shows its physical shape (a CT's
+        0.5 mm pixels and 2 mm slices make a side view's voxels four times as tall as wide)."""
+        su, sv = self.state.volume.voxels.slice_spacing(self.state.view.axis)
+        return su / min(su, sv), sv / min(su, sv)
+
+    def cell(self) -> tuple[float, float]:
+        """Pixels a voxel spans across and down."""
+        ku, kv = self.aspect()
+        zoom = self.fitted()
+        return zoom * ku, zoom * kv
+
     def fit(self) -> None:
         u, v = self.state.volume.voxels.slice_size(self.state.view.axis)
-        self.zoom = max(0.5, min(self.width() / u, self.height() / v) * 0.92)
-        self.offset = QPointF((self.width() - u * self.zoom) / 2, (self.height() - v * self.zoom) / 2)
+        ku, kv = self.aspect()
+        self.zoom = max(0.5, min(self.width() / (u * ku), self.height() / (v * kv)) * 0.92)
+        self.offset = QPointF((self.width() - u * ku * self.zoom) / 2, (self.height() - v * kv * self.zoom) / 2)
 
     def fitted(self) -> float:
         """Pixels per voxel; fits the slice first when it changed shape and was not drawn since (a click can come
@@ -58,9 +90,9 @@ class SliceCanvas(QWidget):
         return self.zoom
 
     def to_voxel(self, pos: QPointF) -> tuple[int, int]:
-        zoom = self.fitted()  # before reading the offset, which fitting moves
-        p = (pos - self.offset) / zoom
-        return int(np.floor(p.x())), int(np.floor(p.y()))
+        cu, cv = self.cell()  # before reading the offset, which fitting moves
+        p = pos - self.offset
+        return int(np.floor(p.x() / cu)), int(np.floor(p.y() / cv))
 
     def zoom_about(self, factor: float, pos: QPointF) -> None:
         new = min(max(self.fitted() * factor, 0.25), 256.0)  # fitted first: the offset below is the fit's
@@ -70,13 +102,21 @@ class SliceCanvas(QWidget):
 
     # -- drawing ----------------------------------------------------------------------------
     def image(self) -> np.ndarray:
-        """The slice as RGBA, with the neighbouring slices faint where it is transparent. Kept until the
-        voxels or the slice change: the brush cursor repaints on every mouse move."""
+        """The slice as RGBA, with the neighbouring slices faint where it is transparent and a scan's labels over
+        it. Kept until the voxels, labels or the slice change: the brush cursor repaints on every mouse move."""
         vol, view = self.state.volume.voxels, self.state.view
-        key = (id(vol), vol.version, view.axis, view.index)
+        labels, opacity = vol.labels, self._cvar(OPACITY)
+        drawn = None if labels is None else (id(labels), labels.version, labels.colour_version, opacity)
+        key = (id(vol), vol.version, drawn, view.axis, view.index)
         if self._image is None or self._image[0] != key:
-            self._image = (key, self._compose(vol, view))
+            rgba = self._compose(vol, view)
+            if labels is not None and labels.data is not None:
+                _over_labels(rgba, labels, view, opacity)
+            self._image = (key, rgba)
         return self._image[1]
+
+    def _cvar(self, name: str):
+        return self.editor.console.registry.cvars[name].value
 
     @staticmethod
     def _compose(vol, view) -> np.ndarray:
@@ -91,12 +131,12 @@ class SliceCanvas(QWidget):
         return np.ascontiguousarray(rgba.round().astype(np.uint8))
 
     def paintEvent(self, _event) -> None:
-        self.fitted()
+        cu, cv = self.cell()
         painter = QPainter(self)
         painter.fillRect(self.rect(), QColor(40, 42, 50))
         data = self.image()
         h, w = data.shape[:2]
-        target = QRectF(self.offset.x(), self.offset.y(), w * self.zoom, h * self.zoom)
+        target = QRectF(self.offset.x(), self.offset.y(), w * cu, h * cv)
         self._checkerboard(painter, target)
         image = QImage(data.data, w, h, 4 * w, QImage.Format.Format_RGBA8888)
         painter.drawImage(target, image)
@@ -122,19 +162,27 @@ class SliceCanvas(QWidget):
         size = self.editor.console.registry.cvars["brush_size"].value if self.tool == "brush" else 1
         u, v = self.hover
         lo = u - (size - 1) // 2, v - (size - 1) // 2
-        rect = QRectF(self.offset.x() + lo[0] * self.zoom, self.offset.y() + lo[1] * self.zoom,
-                      size * self.zoom, size * self.zoom)
+        cu, cv = self.cell()
+        rect = QRectF(self.offset.x() + lo[0] * cu, self.offset.y() + lo[1] * cv, size * cu, size * cv)
         painter.setPen(QPen(QColor(255, 255, 255), 1.5))
         round_brush = self.editor.console.registry.cvars["brush_round"].value and size > 2
         painter.drawEllipse(rect) if round_brush and self.tool == "brush" else painter.drawRect(rect)
 
     # -- input ------------------------------------------------------------------------------
+    def _paint(self) -> str:
+        """What the brush and fill paint, as their commands' words: a scan's label, else the colour (erase: the
+        clear label, or a transparent colour)."""
+        if self.state.volume.voxels.labels is not None:
+            return str(0 if self.erase else self._cvar(BRUSH_LABEL))
+        return " ".join(map(str, (0, 0, 0, 0) if self.erase else self.state.view.brush))
+
     def _stroke_line(self, verb: str) -> str:
+        """A stroke command (`verb`: stroke or stroke.preview); a scan's the label.* one."""
         view = self.state.view
-        size = self.editor.console.registry.cvars["brush_size"].value
-        colour = (0, 0, 0, 0) if self.erase else view.brush
+        size = self._cvar("brush_size")
         coords = " ".join(f"{u} {v}" for u, v in self.points)
-        return f"{verb} {view.axis} {view.index} {size} {' '.join(map(str, colour))} {coords}"
+        verb = f"label.{verb}" if self.state.volume.voxels.labels is not None else verb
+        return f"{verb} {view.axis} {view.index} {size} {self._paint()} {coords}"
 
     def mousePressEvent(self, event) -> None:
         u, v = self.to_voxel(event.position())
@@ -151,9 +199,9 @@ class SliceCanvas(QWidget):
             if 0 <= u < su and 0 <= v < sv:
                 self.command.emit(f"pick {' '.join(map(str, voxels.voxel_of(view.axis, view.index, u, v)))}")
         elif tool == "fill":
-            colour = (0, 0, 0, 0) if self.erase else view.brush
-            tolerance = self.editor.console.registry.cvars["fill_tolerance"].value
-            line = f"fill {view.axis} {view.index} {u} {v} {' '.join(map(str, colour))}"
+            tolerance = self._cvar("fill_tolerance")
+            verb = "label.fill" if self.state.volume.voxels.labels is not None else "fill"
+            line = f"{verb} {view.axis} {view.index} {u} {v} {self._paint()}"
             self.command.emit(f"{line} {tolerance}" if tolerance else line)  # 0 is the command's default
         else:
             self.points = [(u, v)]
@@ -220,6 +268,7 @@ class SlicePainter(QWidget):
         self.colour = QPushButton()
         self.colour.setToolTip("Brush colour (c)")
         self.colour.clicked.connect(lambda: run("ui.brushcolor"))
+        self.labels = LabelRow(editor, state, run)  # on a scan, in the colour button's place
         self.erase = QCheckBox("erase")
         self.erase.toggled.connect(lambda on: setattr(self.canvas, "erase", on))
         tools = QButtonGroup(self)
@@ -238,7 +287,7 @@ class SlicePainter(QWidget):
         tool_row.addStretch(1)
         top = QHBoxLayout()
         for label, widget in (("slice", self.axis), ("", self.index), ("brush", self.size), ("", self.round),
-                              ("", self.colour)):
+                              ("", self.colour), ("", self.labels)):
             if label:
                 top.addWidget(QLabel(label))
             top.addWidget(widget)
@@ -249,6 +298,8 @@ class SlicePainter(QWidget):
         layout.addLayout(tool_row)
         layout.addWidget(self.canvas, 1)
         self.transfer = TransferPanel(state, run)  # a scalar volume's window and colour map
+        self.modes = ScalarModeRow(state, self.editor.console.registry.cvars, run)  # and how it is drawn
+        self.transfer.layout().addWidget(self.modes)
         layout.addWidget(self.transfer)
         self.axis.currentTextChanged.connect(lambda a: self._set_slice(a, self.state.view.index))
         self.index.valueChanged.connect(lambda i: self._set_slice(self.axis.currentText(), i))
@@ -266,7 +317,10 @@ class SlicePainter(QWidget):
     def sync(self) -> None:
         """Show the model's values without sending them back as commands."""
         self.transfer.sync()
+        self.labels.sync()
+        self.modes.sync()
         view, vol = self.state.view, self.state.volume.voxels
+        self.colour.setVisible(vol.labels is None)
         cvars = self.editor.console.registry.cvars
         for widget, setter, value in ((self.axis, "setCurrentText", view.axis),
                                       (self.index, "setMaximum", vol.depth(view.axis) - 1),
@@ -277,11 +331,15 @@ class SlicePainter(QWidget):
             widget.blockSignals(True)
             getattr(widget, setter)(value)
             widget.blockSignals(False)
-        shape = (view.axis, vol.slice_size(view.axis))
+        shape = (view.axis, vol.slice_size(view.axis), vol.slice_spacing(view.axis))
         if shape != getattr(self, "_shape", None):
-            self.canvas.zoom = 0  # refit: another axis, a new or rotated volume
+            self.canvas.zoom = 0  # refit: another axis, a new or rotated volume, another spacing
             self._shape = shape
-        shown = (vol.version, view.axis, view.index, view.brush, cvars["brush_size"].value, cvars["brush_round"].value)
+            self.canvas.update()
+        labels = None if vol.labels is None else (id(vol.labels), vol.labels.version, vol.labels.colour_version,
+                                                  cvars[OPACITY].value)
+        shown = (vol.version, labels, view.axis, view.index, view.brush, cvars["brush_size"].value,
+                 cvars["brush_round"].value)
         if shown == getattr(self, "_shown", None):
             return  # an orbit or another view change: nothing here to redraw
         self._shown = shown

@@ -80,5 +80,8 @@ class VolumeTool(ViewportTool):
         return f"slice picker ({self.picker_axis})" if self.picker_axis else "orbit"
 
     def render_mode(self) -> str:
+        settings = self.settings()
+        if settings.scalar_mode != "colour" and self.state.volume.voxels.scalars is not None:
+            return settings.scalar_mode + (f" {number(settings.iso)}" if settings.scalar_mode == "iso" else "")
         mode = self.state.view.mode
         return f"mode {mode}: {MODES[mode].name}"

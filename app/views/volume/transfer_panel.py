@@ -10,8 +10,7 @@ from PySide6.QtWidgets import QComboBox, QGroupBox, QLabel, QPushButton, QVBoxLa
 from app.model.volume.scalars import COLORMAPS, PERCENTILES, value_range
 from app.views.form_widgets import left_row, spin
 
-NO_SCALARS = ("no scalars to window: load a 16-bit or float NRRD, TIFF or .npy file (an edit bakes a scalar "
-              "volume's window in; undo it to window again)")
+NO_SCALARS = "no scalars to window: load a 16-bit or float NRRD, TIFF or .npy file"
 
 
 def number(value: float) -> str:
