@@ -18,7 +18,9 @@ VERBS = {  # the headless verbs and their one-line help (shadelab --help lists t
 # Control characters but tab and newline: C0, DEL and C1. A script's print or a file's name with ESC in it would
 # otherwise drive the terminal that shows the log (retitle it, move the cursor, rewrite what was printed).
 _TERMINAL_CONTROLS = re.compile(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]")
-MAX_SETTLING_FRAMES = 64  # `render` draws a still scene until its renderer's temporal histories are full
+# `render` draws a still scene until its renderer says more frames would not change it (the clouds: until TAA has
+# converged, with a cap of their own); this only guards against a renderer that never says so
+MAX_SETTLING_FRAMES = 1024
 EXEC_USAGE = """usage: shadelab exec [FILE | -c COMMAND]...
 
 Run .cfg, .lua and .demo files and single console commands in the order given, without a window,
@@ -118,12 +120,15 @@ def render(args) -> int:
     try:
         renderer = WorkspaceRenderer(ctx)
         target = OffscreenTarget(ctx, args.size)
-        for _ in range(MAX_SETTLING_FRAMES):  # a still scene: let temporal histories fill
+        frames = 0
+        while frames < MAX_SETTLING_FRAMES:  # a still scene: let temporal histories fill
             renderer.render(target.fbo, editor.current, editor.render_settings(), overlays=args.overlays)
+            frames += 1
             if not renderer.settling():
                 break
         write_png(args.out, target.read())
-        print(f"wrote {args.out} ({args.size[0]}x{args.size[1]}, {ctx.info['GL_RENDERER']})")
+        print(f"wrote {args.out} ({args.size[0]}x{args.size[1]}, {frames} frame{'s' * (frames != 1)}, "
+              f"{ctx.info['GL_RENDERER']})")
     finally:
         release_context(ctx)  # leaves none current: a caller in this process may make its own
     return 0

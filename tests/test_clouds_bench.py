@@ -159,6 +159,10 @@ def test_report_has_every_measure_and_a_verdict_for_each_goal(measured):
     assert re.search(r"(PASS|FAIL): GPU energy at \d+ steps against the CPU reference", text)
     assert re.search(r"(PASS|FAIL): all optimisations against none at 16 steps: [\d.]+x faster", text)
     assert re.search(r"(PASS|FAIL): interleaved, all against none", text)
+    # measure 7: ground pixels of the stretched, turned and dragged buffer; the slow turn, the wind, the settling
+    assert "## 7. Upsampling and reprojection" in text and re.search(r"\| stretched, d = 4 \| [\d.]+ % \|", text)
+    assert re.search(r"at frames 4: [\d.]+, 16: [\d.]+, 40: [\d.]+", text) and "d = 2: " in text
+    assert re.search(r"settles \(TAA converged\) after \d+ frames", text)
     assert any("clouds-report.md" in line for line in lines)
 
 

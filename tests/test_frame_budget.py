@@ -130,6 +130,7 @@ def test_the_frames_bench_writes_a_row_per_workspace(gl, tmp_path):
         assert row["frames"] == 3 and row["interactive_ms_median"] > 0 and row["still_ms_median"] > 0
         assert row["interactive_ms_p10"] <= row["interactive_ms_median"] <= row["interactive_ms_p90"]
         assert 0.0 <= row["interactive_rmse"] <= row["interactive_max_abs_error"] <= 1.0
+        assert row["interactive_cpu_ms_median"] > 0 and row["first_still_ms"] > 0 and 0 <= row["first_still_rmse"] <= 1
     frame_budget.write_csv(tmp_path / "frames.csv", rows)
     lines = (tmp_path / "frames.csv").read_text().splitlines()
     assert lines[0].split(",") == list(frame_budget.CSV_COLUMNS) and len(lines) == 3

@@ -7,7 +7,8 @@
   (chart_parts, Technique.charts: the cli draws them);
 - clouds-report.md: the issue's five measures as tables with their verdicts (also printed): the GPU against
   the CPU reference, Figure 41, Figure 39, each optimisation's error against its time with all of them
-  against none (timed again, interleaved), and the seed's integration beside the energy one.
+  against none (timed again, interleaved), and the seed's integration beside the energy one; then reprojection
+  through a turn, and the reduced buffer where the view moves and the clock runs (clouds_motion.py).
 """
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from app.bench import harness
+from app.bench import clouds_motion, harness
 from app.bench.clouds_frames import ALL, ALL_BUT, BUFFERS, NONE, OPTIMISATIONS, SAVING, CloudState, stages
 from app.bench.harness import Row
 from app.io.atomic import write_text
@@ -269,7 +270,7 @@ def integration_section(rows: list[Row], plan) -> list[str]:
 
 
 def report(rows: list[Row], plan, interleaved: dict | None = None, renderer: str = "",
-           turned: list | None = None) -> tuple[str, list[str]]:
+           turned: list | None = None, motion: dict | None = None) -> tuple[str, list[str]]:
     """The markdown report and its verdict lines."""
     s1, v1 = reference_section(rows, plan)
     s3, v3 = stage_section(rows, plan)
@@ -278,7 +279,8 @@ def report(rows: list[Row], plan, interleaved: dict | None = None, renderer: str
     head = ["# Clouds bench", "", f"Measured on {renderer or 'an unnamed GL renderer'}.", "",
             *[f"- {v}" for v in verdicts], ""]
     body = [*s1, "", *buffer_section(rows, plan), "", *s3, "", *s4, "", *integration_section(rows, plan), "",
-            *(turn_section(turned, plan) + [""] if turned else [])]
+            *(turn_section(turned, plan) + [""] if turned else []),
+            *(clouds_motion.section(motion, plan) + [""] if motion else [])]
     return "\n".join(head + body), verdicts
 
 
@@ -338,7 +340,10 @@ def write(bench, ctx, out: Path, rows: list[Row], progress: Callable[[str], None
     progress(f"timing none and all interleaved ({plan.interleaved_rounds} rounds)")
     interleaved = interleave(bench, ctx, plan.interleaved_rounds) if plan.interleaved_rounds > 0 else None
     progress("reprojection through a turn")
-    text, _verdicts = report(rows, plan, interleaved, ctx.info.get("GL_RENDERER", ""), turns(bench, ctx))
+    turned = turns(bench, ctx)
+    progress("the reduced buffer where the view moves and the clock runs")
+    motion = clouds_motion.Motion(bench, ctx).measure()
+    text, _verdicts = report(rows, plan, interleaved, ctx.info.get("GL_RENDERER", ""), turned, motion)
     write_text(out / "clouds-report.md", text)
     progress(text)
     progress(f"wrote {len(images)} sample-count images, clouds-samples.md and clouds-report.md in {out}")

@@ -2,7 +2,10 @@
 viewport draws it while the user moves the view (interactive frames within r_frameBudget, the host's ladder
 learning from the times it measures) and once still. A row per workspace: the interactive frame time (median and
 10th..90th percentile), the level the ladder settled on, the still frame's time, and what the interactive picture
-gives up: its error against the still frame of the same view."""
+gives up: its error against the still frame of the same view; then the processor time of both (all the GL
+driver's threads: on a software renderer, what the frames cost whatever else the machine runs), and the first full
+frame after the drag (what the viewport draws once the view has been still a moment): its time and its error
+against the settled picture."""
 from __future__ import annotations
 
 import csv
@@ -25,7 +28,8 @@ from app.model.workspace import WorkspaceMapping
 DEFAULT_VIEW = (588, 614)
 CSV_COLUMNS = ("workspace", "width", "height", "budget_ms", "level", "scale", "cheap", "interactive_ms_median",
                "interactive_ms_p10", "interactive_ms_p90", "still_ms_median", "still_ms_p10", "still_ms_p90",
-               "interactive_rmse", "interactive_max_abs_error", "frames")
+               "interactive_rmse", "interactive_max_abs_error", "frames", "interactive_cpu_ms_median",
+               "still_cpu_ms_median", "first_still_ms", "first_still_rmse")
 SETTLE_FRAMES = 64  # a temporal history (the clouds' TAA) fills within this
 
 
@@ -63,13 +67,15 @@ class _Workspace:
         RENDERERS[name].prepare()
         self.host = WorkspaceRenderer(ctx)
         self.target = OffscreenTarget(ctx, size)
+        self.cpu_ms = 0.0  # the processor time of the last frame
 
     def frame(self, interactive: bool) -> float:
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         self.host.render(self.target.fbo, self.editor.current, self.editor.render_settings(), interactive,
                          self.budget_ms)
         self.ctx.finish()
         ms = (time.perf_counter() - start) * 1e3
+        self.cpu_ms = (time.process_time() - cpu) * 1e3
         self.host.frame_took(ms)
         return ms
 
@@ -96,17 +102,23 @@ def measure(ctx, name: str, size: tuple[int, int] = DEFAULT_VIEW, budget_ms: flo
     bench = _Workspace(ctx, editor, name, size, budget_ms, setup)
     try:
         bench.settled_image()
-        still = [bench.frame(False) for _ in range(max(3, frames // 4))]
-        interactive = []
+        still, still_cpu = [], []
+        for _ in range(max(3, frames // 4)):
+            still.append(bench.frame(False))
+            still_cpu.append(bench.cpu_ms)
+        interactive, interactive_cpu = [], []
         for i in range(learn + frames):
             bench.move()
             ms = bench.frame(True)
             if i >= learn:
                 interactive.append(ms)
+                interactive_cpu.append(bench.cpu_ms)
         budget = bench.host.budgets[name]
         index = budget.level  # the level the drag settled on (the still frames below go back to 0)
         level = budget.levels[index]
         moving = bench.target.read().astype(np.float64) / 255.0
+        first_ms = bench.frame(False)
+        first = bench.target.read().astype(np.float64) / 255.0
         settled = bench.settled_image().astype(np.float64) / 255.0
         diff = (moving - settled)[..., :3]
         median, p10, p90 = _percentiles(interactive)
@@ -116,7 +128,10 @@ def measure(ctx, name: str, size: tuple[int, int] = DEFAULT_VIEW, budget_ms: flo
                 "interactive_ms_median": median, "interactive_ms_p10": p10, "interactive_ms_p90": p90,
                 "still_ms_median": s_median, "still_ms_p10": s_p10, "still_ms_p90": s_p90,
                 "interactive_rmse": float(np.sqrt(np.mean(diff ** 2))),
-                "interactive_max_abs_error": float(np.abs(diff).max()), "frames": len(interactive)}
+                "interactive_max_abs_error": float(np.abs(diff).max()), "frames": len(interactive),
+                "interactive_cpu_ms_median": statistics.median(interactive_cpu),
+                "still_cpu_ms_median": statistics.median(still_cpu), "first_still_ms": first_ms,
+                "first_still_rmse": float(np.sqrt(np.mean((first - settled)[..., :3] ** 2)))}
     finally:
         bench.release()
 
@@ -127,8 +142,10 @@ def run(ctx, names: list[str], size: tuple[int, int] = DEFAULT_VIEW, budget_ms: 
     for name in names:
         row = measure(ctx, name, size, budget_ms, frames)
         progress(f"{name}: interactive {row['interactive_ms_median']:.1f} ms (level {row['level']}, "
-                 f"{row['interactive_ms_p10']:.1f}..{row['interactive_ms_p90']:.1f}), still "
-                 f"{row['still_ms_median']:.1f} ms; interactive rmse {row['interactive_rmse'] * 255:.2f}/255")
+                 f"{row['interactive_ms_p10']:.1f}..{row['interactive_ms_p90']:.1f}; processor "
+                 f"{row['interactive_cpu_ms_median']:.0f} ms), still {row['still_ms_median']:.1f} ms (processor "
+                 f"{row['still_cpu_ms_median']:.0f} ms); interactive rmse {row['interactive_rmse'] * 255:.2f}/255; "
+                 f"first still frame {row['first_still_ms']:.0f} ms, rmse {row['first_still_rmse'] * 255:.2f}/255")
         rows.append(row)
     return rows
 

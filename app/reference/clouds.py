@@ -114,6 +114,8 @@ def march(frame: Frame, textures: CloudTextures, d: np.ndarray, t0: np.ndarray, 
     lookups = np.zeros(len(d), dtype=np.int64)
     distance, weight = np.zeros(len(d)), np.zeros(len(d))
     alive = n > 0
+    # as the shader: no early exit before the sun's disc, where every bit of transmittance shows
+    exits = early_exit & ~(bool(frame.physical_sky) & (cos > clouds_sky.SUN_COS_RADIUS))
     k0 = 0
     while True:
         rays = np.flatnonzero(alive & (n > k0))
@@ -131,7 +133,7 @@ def march(frame: Frame, textures: CloudTextures, d: np.ndarray, t0: np.ndarray, 
         a[~valid] = 0.0
         keep = np.cumprod(1 - a, axis=1)
         before = transmittance[rays, None] * np.concatenate([np.ones((len(rays), 1)), keep[:, :-1]], axis=1)
-        taken = valid & ((1 - before <= EARLY_EXIT) if early_exit else True)
+        taken = valid & ((1 - before <= EARLY_EXIT) | ~exits[rays, None])
         lit = taken & (rho > 0)
         s = np.zeros(valid.shape + (3,))
         extra = np.zeros(valid.shape, dtype=np.int64)
@@ -143,8 +145,11 @@ def march(frame: Frame, textures: CloudTextures, d: np.ndarray, t0: np.ndarray, 
         weight[rays] += adds.sum(1)
         transmittance[rays] *= np.where(taken, 1 - a, 1.0).prod(1)
         lookups[rays] += np.where(taken, count + extra, 0).sum(1)
-        if early_exit:
-            alive[rays] &= 1 - transmittance[rays] <= EARLY_EXIT
+        alive[rays] &= (1 - transmittance[rays] <= EARLY_EXIT) | ~exits[rays]
+    if early_exit:  # as the shader: an exited ray's clouds hide what lies behind, their light the mean so far
+        out = exits & (1 - transmittance > EARLY_EXIT)
+        radiance[out] /= (1 - transmittance[out])[:, None]
+        transmittance[out] = 0.0
     if depth:
         return radiance, 1 - transmittance, lookups, np.where(weight > 0, distance / np.where(weight > 0, weight, 1),
                                                                  t1)

@@ -14,7 +14,9 @@ from app.console.quoting import quote
 from app.gl.core.headless import SAMPLES
 
 SCREENSHOT_DELAY_MS = 1500  # let docks settle and the first frames land
-SCREENSHOT_WAIT_MS = 60000  # then wait for the picture to settle (temporal histories), at most this long
+# then wait for the picture to settle (temporal histories; the clouds' TAA converging takes some 80 frames), at most
+# this long
+SCREENSHOT_WAIT_MS = 300000
 
 
 def set_surface_format() -> None:

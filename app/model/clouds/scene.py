@@ -360,4 +360,6 @@ class CloudRenderSettings:
     debug_samples: bool = False   # texture lookups per pixel, black 0 .. white 1000
     furnace: bool = False         # the white furnace test's environment (furnace()), not the scene's sky
     integration: str = "energy"   # or "seed"
+    reproject_downsample: int = 1  # the reprojected picture is 1/this of the output on each axis (no cvar: the
+                                   # host's cheapest full-size level of a drag)
     tone: ToneSettings = ToneSettings()  # exposure and the tone curve (app/model/clouds/exposure.py)
