@@ -2,6 +2,7 @@
 vol.iso sets the surface and shows it, bad values change nothing, the editor's render settings carry them, and a demo
 keeps them."""
 import numpy as np
+from nibabel.testing import data_path
 
 from app.console.demo import VirtualClock
 from app.editor import Editor
@@ -26,6 +27,13 @@ def test_a_scan_opens_in_mip_and_an_rgba_volume_in_colour(volume_editor, tmp_pat
     assert volume_editor.render_settings().scalar_mode == "mip"
     assert volume_editor.execute("sample coords3d 16")
     assert cvar(volume_editor, "r_scalarMode") == "colour"
+
+
+def test_an_8_bit_mri_opens_as_a_scan_in_mip(volume_editor):
+    """nibabel's own 8-bit NIfTI (as MRI templates are written): a scan, windowed, in mip; not painted grey."""
+    assert volume_editor.execute(f"load {data_path}/standard.nii.gz")
+    assert volume_editor.current.volume.voxels.scalars is not None
+    assert cvar(volume_editor, "r_scalarMode") == "mip"
 
 
 def test_every_mode_is_taken_and_others_refused(volume_editor, tmp_path):

@@ -148,6 +148,22 @@ def stored_ct(depth: int = 5, rows: int = 6, columns: int = 7) -> np.ndarray:
     return np.random.default_rng(depth).integers(0, 3000, (depth, rows, columns)).astype(np.uint16)
 
 
+def test_an_8_bit_series_opens_as_a_scan(tmp_path):
+    """8-bit grey slices (ultrasound, secondary captures) are a scan too: widened to uint16, the values kept."""
+    folder = tmp_path / "us"
+    folder.mkdir()
+    stored = np.random.default_rng(3).integers(0, 256, (3, 4, 5)).astype(np.uint8)
+    for z, pixels in enumerate(stored):
+        ds = pydicom.dcmread(pydicom.filebase.DicomBytesIO(ct_slice(pixels.astype(np.uint16), z * 2.0, "1.2.3",
+                                                                       intercept=0.0)))
+        ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelData = 8, 8, 7, pixels.tobytes()
+        ds.save_as(folder / f"IM{z}", enforce_file_format=True)
+    read = read_volume_file(folder)
+    assert read.data.dtype == np.uint16
+    np.testing.assert_array_equal(read.data, stored)
+    assert "8-bit values: opened as a scan (uint16), windowed" in read.notes
+
+
 def test_a_uint16_ct_with_intercept_becomes_int16_in_place(tmp_path):
     stored = stored_ct()
     write_series(tmp_path / "ct", stored, gap=2.5)
@@ -245,11 +261,13 @@ def test_a_4d_file_says_it_opens_its_first_volume():
     assert "a 4D file of 20 volumes: the first opens" in read_volume_file(NIFTI_TESTS / "functional.nii").notes
 
 
-def test_a_uint8_nifti_is_a_density_volume_with_its_voxel_sizes():
+def test_a_uint8_nifti_is_a_scan_with_its_voxel_sizes():
+    """What neuroimaging tools write in 8 bits (an MRI template) opens as a scan, windowed, not as grey colours."""
     read = read_volume_file(NIFTI_TESTS / "standard.nii.gz")
     expected = nibabel_first_volume("standard.nii.gz")
-    assert read.data.shape == expected.shape + (4,) and read.spacing == (1.0, 3.0, 2.0)
-    np.testing.assert_array_equal(read.data[..., 0], expected)
+    assert read.data.dtype == np.uint16 and read.data.shape == expected.shape and read.spacing == (1.0, 3.0, 2.0)
+    np.testing.assert_array_equal(read.data, expected)
+    assert "8-bit values: opened as a scan (uint16), windowed" in read.notes
 
 
 def nifti_bytes(values: np.ndarray, compressed: bool = False, **header) -> bytes:

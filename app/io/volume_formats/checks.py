@@ -104,6 +104,16 @@ def native(array: np.ndarray) -> np.ndarray:
     return array
 
 
+def as_scan(array: np.ndarray, notes: list[str]) -> np.ndarray:
+    """What a scanner or a neuroimaging tool wrote (NIfTI, DICOM) is a scan, 8-bit too: grey uint8 widened to
+    uint16, its values kept, so it opens windowed in the scalar modes with the transfer function and labels, as any
+    scan (an 8-bit MRI template opened as painted grey colours before). Other arrays as they are."""
+    if array.dtype != np.uint8 or array.ndim != 3:
+        return array
+    notes.append("8-bit values: opened as a scan (uint16), windowed")
+    return array.astype(np.uint16)
+
+
 def as_volume(array: np.ndarray) -> np.ndarray:
     """A read array as the volume readers return: scalars as they are, C-ordered in native byte order (swapped in
     place where the file's was not); 8-bit arrays as RGBA, the only allocation: every step is uint8 and in place

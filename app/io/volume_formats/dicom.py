@@ -23,8 +23,8 @@ import pydicom
 from pydicom.dataset import Dataset
 from pydicom.uid import ExplicitVRBigEndian, ExplicitVRLittleEndian, ImplicitVRLittleEndian
 
-from app.io.volume_formats.checks import (MAX_SIDE, PathLike, VolumeFile, FormatError, as_volume, check_array,
-                                          library_errors, open_file, rescaled, usable_spacing)
+from app.io.volume_formats.checks import (MAX_SIDE, PathLike, VolumeFile, FormatError, as_scan, as_volume,
+                                          check_array, library_errors, open_file, rescaled, usable_spacing)
 
 SUFFIXES = (".dcm", ".dicom")  # besides these, a file that says "DICM" after its 128-byte preamble is DICOM
 _NATIVE = (ImplicitVRLittleEndian, ExplicitVRLittleEndian, ExplicitVRBigEndian)
@@ -246,7 +246,7 @@ def _assemble(source: PathLike, slices: list[_Slice], max_bytes: int, notes: lis
     spacing = usable_spacing((column_gap, row_gap, slice_spacing or column_gap), notes, "DICOM spacing")
     notes.insert(0, f"DICOM {first.label}: {depth} slice{'s' * (depth > 1)} of {first.columns}x{first.rows}, "
                  f"spacing {column_gap:g} {row_gap:g} {slice_spacing or column_gap:g} mm")
-    return VolumeFile(as_volume(volume), spacing=spacing, notes=tuple(notes))
+    return VolumeFile(as_volume(as_scan(volume, notes)), spacing=spacing, notes=tuple(notes))
 
 
 def read_file(path: PathLike, max_bytes: int) -> VolumeFile:

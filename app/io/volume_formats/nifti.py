@@ -19,8 +19,8 @@ import nibabel as nib
 import numpy as np
 from nibabel.affines import voxel_sizes
 
-from app.io.volume_formats.checks import (PathLike, VolumeFile, FormatError, as_volume, check_array, library_errors,
-                                          native, open_file, rescaled, usable_spacing)
+from app.io.volume_formats.checks import (PathLike, VolumeFile, FormatError, as_scan, as_volume, check_array,
+                                          library_errors, native, open_file, rescaled, usable_spacing)
 
 _HEADERS = {348: (nib.Nifti1Header, (b"n+1\x00", b"ni1\x00")), 540: (nib.Nifti2Header, (b"n+2\x00", b"ni2\x00"))}
 _SKIP = 1 << 16  # bytes skipped at a time between the header and the voxels (extensions)
@@ -103,7 +103,7 @@ def read(path: PathLike, max_bytes: int) -> VolumeFile:
                  f"{'' if unit == 'unknown' else ' ' + unit}; orientation {axes} (the affine's) is not applied: "
                  "x, y, z are the file's i, j, k")
     values = rescaled(path, native(np.frombuffer(data, dtype).reshape(k, j, i)), slope, inter, notes, max_bytes)
-    return VolumeFile(as_volume(values), spacing=spacing, notes=tuple(notes))
+    return VolumeFile(as_volume(as_scan(values, notes)), spacing=spacing, notes=tuple(notes))
 
 
 def orientation(affine: np.ndarray) -> str:
