@@ -1,5 +1,5 @@
 """A program specialised at compile time: ShaderLibrary.program(name, defines=...) puts `#define`s after each stage's
-#version, one program for each set (what raytrace_scalar.prg's modes are)."""
+#version, one program for each set (what raytrace.prg's modes are: SCALAR_MODE)."""
 from pathlib import Path
 
 from app.gl.core.shader_source import GSLimits, Origin, load_stage

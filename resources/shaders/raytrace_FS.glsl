@@ -22,7 +22,7 @@ void main() {
         vec3 a = to_texture(u_eye + dir * span.x);
         vec3 b = to_texture(u_eye + dir * span.y);
         float at;
-        vec3 traced = u_scalar_mode == 0 ? trace(a, b, dir, at) : scalar_trace(a, b, dir, at);
+        vec3 traced = SCALAR_MODE == 0 ? trace(a, b, dir, at) : scalar_trace(a, b, dir, at);
         colour = with_planes(with_labels(traced, a, b, dir, at), a, b, at);
     }
     frag_color = u_debug_samples == 1 ? vec4(samples_taken, 0.0, 0.0, 1.0) : vec4(colour, 1.0);

@@ -35,7 +35,7 @@ FACES = np.array([0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3,
 EDGES = np.array([0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7], dtype="i4")
 WIREFRAME = (0.85, 0.87, 0.92, 1.0)
 LEFT_EYE, RIGHT_EYE, ALL = (True, False, False, True), (False, True, True, True), (True, True, True, True)
-SCALAR_MODES_ONLY = ("u_opacity", "u_opacity_span", "u_opacity_entries", "u_clear_below")  # not in the two-pass
+SCALAR_MODES_ONLY = ("u_opacity", "u_opacity_span", "u_opacity_entries", "u_clear_below")  # not in the F-modes'
 
 
 class DistanceTexture:
@@ -193,9 +193,9 @@ class RayTracer:
             self.ctx.front_face = "ccw"
             self.ctx.disable(moderngl.CULL_FACE)
         else:
-            program = self.shaders.program("raytrace")
-            uniforms.update(u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)), u_scalar_mode=0)
-            set_uniforms(program, uniforms)
+            program = self.shaders.program("raytrace", defines={"SCALAR_MODE": 0})  # the F-modes' code alone
+            uniforms.update(u_inv_view_proj=gl_matrix(np.linalg.inv(view_proj)))
+            set_uniforms(program, uniforms, optional=SCALAR_MODES_ONLY)
             fbo.use()
             self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)
         self.linear.clear(self.units["u_volume"])
@@ -239,7 +239,7 @@ class RayTracer:
                                                                                          voxels.scalars.transfer.low)
         uniforms.update(self.clip.uniforms(settings.scalar_mode, self.scalars.maxima, voxels.size, level,
                                            self.scalars.scale))
-        program = self.shaders.program("raytrace_scalar", defines={"SCALAR_MODE": mode_number(settings.scalar_mode)})
+        program = self.shaders.program("raytrace", defines={"SCALAR_MODE": mode_number(settings.scalar_mode)})
         set_uniforms(program, uniforms, optional=uniforms.keys())
         fbo.use()
         self._screen.get(program).render(moderngl.TRIANGLES, vertices=3)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-# r_scalarMode's values; the shader's u_scalar_mode is the index (0: colour, the F-modes).
+# r_scalarMode's values; the shader's SCALAR_MODE is the index (0: colour, the F-modes).
 SCALAR_MODES = ("colour", "mip", "minip", "attenuated_mip", "iso", "average", "translucent")
 SCALAR_DEFAULT = "mip"       # what a scalar volume opens in; an RGBA volume opens in colour
 ISO_MODE = "iso"
