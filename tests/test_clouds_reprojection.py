@@ -11,9 +11,10 @@ import numpy as np
 import pytest
 
 from app.bench.clouds_frames import NONE, CloudScene, CloudState, Shared
+from app.bench.clouds_motion import ground
 from app.gl.clouds.reprojection import new_directions
 from app.gl.clouds.workspace import CloudsWorkspaceRenderer
-from app.model.clouds.scene import FOV_Y_DEG, PLANET_RADIUS, CloudRenderSettings, camera_basis
+from app.model.clouds.scene import FOV_Y_DEG, CloudRenderSettings, camera_basis
 
 SIZE = (96, 54)
 STEPS = 48
@@ -29,22 +30,9 @@ def states(gl, shared, n=1):
     return [CloudState(gl, shared) for _ in range(n)]
 
 
-def ground(view, size=SIZE) -> np.ndarray:
-    """Which pixels (rows from the top, as CloudState reads them) look at the ground: the planet's sphere ahead."""
-    f, r, u = (np.array(v) for v in camera_basis(view))
-    t, aspect = math.tan(math.radians(FOV_Y_DEG) / 2), size[0] / size[1]
-    y, x = np.mgrid[0:size[1], 0:size[0]]
-    d = f + ((x + 0.5) / size[0] * 2 - 1)[..., None] * t * aspect * r + ((y + 0.5) / size[1] * 2 - 1)[..., None] * t * u
-    d /= np.linalg.norm(d, axis=-1, keepdims=True)
-    o = np.array([0.0, view.altitude + PLANET_RADIUS, 0.0])
-    b, c = d @ o, o @ o - PLANET_RADIUS ** 2
-    disc = b * b - c
-    return ((disc >= 0) & (-b - np.sqrt(np.maximum(disc, 0)) > 0))[::-1]
-
-
 def smeared(image, truth, view) -> float:
     """The share of ground pixels more than OFF from the truth in some channel."""
-    mask = ground(view)
+    mask = ground(view, SIZE)
     assert mask.mean() > 0.2, "the view shows too little ground to say"
     return float((np.abs(image - truth).max(axis=2)[mask] > OFF).mean())
 
@@ -71,7 +59,7 @@ def test_the_stretched_buffer_leaves_the_ground_as_the_full_size_trace_has_it(gl
     reduced.draw(scene, replace(NONE, steps=STEPS, downsample=down), SIZE)
     shown = reduced.image(SIZE)
     assert smeared(shown, reference, scene.view) < 0.005
-    sky = ~ground(scene.view)
+    sky = ~ground(scene.view, SIZE)
     assert np.abs(shown - reference)[sky].mean() > 1 / 255  # the sky does show the reduced buffer
 
 
