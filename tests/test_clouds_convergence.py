@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from app.bench.clouds_frames import CloudScene, CloudState, Shared
-from app.gl.clouds.renderer import CONVERGED, MAX_SETTLING, TAA_FRAMES
+from app.gl.clouds.renderer import CONVERGED, MAX_SETTLING, STOP_FRAMES, TAA_FRAMES
 from app.gl.core.headless import create_context, release_context
 from app.model.clouds.scene import CloudRenderSettings
 
@@ -78,3 +78,30 @@ def test_render_draws_as_many_frames_as_the_convergence_rule_asks(tmp_path, caps
     assert said and out.is_file()
     expected, _ = converging(settings)
     assert int(said.group(1)) == expected > settings.downsample ** 2
+
+
+def test_a_clock_that_ticks_every_other_frame_settles_and_a_stopped_one_converges():
+    """The editor draws frames between its animation's ticks: the clock moves on every other frame. Each still frame
+    counted as a stop restarted reprojection's count, and the view never settled (the editor's `--screenshot` of the
+    clouds waited its 5 minutes). A clock still for STOP_FRAMES frames has stopped; the view converges after."""
+    ctx = create_context()
+    try:
+        state, scene, settings = CloudState(ctx, Shared()), CloudScene("test"), CloudRenderSettings()
+        settled = None
+        for frame in range(1, 4 * TAA_FRAMES):
+            scene.wind_time += 0.2 * (frame % 2)
+            state.draw(scene, settings, SIZE)
+            if not state.renderer.settling(settings):
+                settled = frame
+                break
+        assert settled is not None and settled <= 2 * TAA_FRAMES
+        assert state.renderer.clock_running
+        stops = []
+        for frame in range(STOP_FRAMES + 2):  # the clock stands still from here
+            state.draw(scene, settings, SIZE)
+            stops.append(state.renderer.reprojected_frames)
+        assert not state.renderer.clock_running
+        assert stops[STOP_FRAMES - 1] == 1  # the stop seen: the count restarts, the kept values as prior samples
+        assert state.renderer.settling(settings)  # ... and the still view converges from there
+    finally:
+        release_context(ctx)

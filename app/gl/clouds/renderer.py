@@ -47,6 +47,9 @@ def bayer_order(n: int) -> tuple[int, ...]:
 ORDERS = {2: (0, 3, 1, 2), 3: (0, 8, 2, 6, 4, 1, 7, 3, 5),
           4: (0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5), 8: bayer_order(8)}
 TAA_FRAMES = 16       # while the clock runs the history's weight settles at 1 - 1/16 (old clouds fade)
+# A clock still for this many frames has stopped; fewer are gaps between an animation's ticks (the editor draws
+# frames between them: counted as stops, each restarted the reprojection's count, so the view never settled).
+STOP_FRAMES = 4
 GOLDEN = 0.61803398875  # the blue noise's shift per frame: every offset visited evenly over time
 # What the host's cheaper levels change (the workspace's `cheaper`, TAA off while interactive): a reprojected
 # history outlives a change to a cheaper one (a drag goes on through the levels), each of its pixels traced again
@@ -160,6 +163,7 @@ class CloudRenderer:
         self._basis = None         # the last frame's camera basis: a turn reprojects through it
         self._clock = None         # the last frame's wind offsets and blend
         self._clock_moved = False  # ... and whether they had moved
+        self._clock_age = None     # frames since the clock last moved (None: not since the histories restarted)
         self._resolved = None      # the last resolved buffer (reprojection)
         self._taa = None           # the last TAA output
         self._compared = None      # (the last frame's buffer, this frame's) where this frame kept the history
@@ -216,8 +220,10 @@ class CloudRenderer:
         quality = tuple(getattr(settings, name) for name in REFINED)
         history = 0 if key != self._key or finer(quality, self._quality) else 1 if basis == self._basis else 2
         requality = history != 0 and quality != self._quality
-        clock_stopped = self._clock_moved and clock == self._clock
         self._clock_moved = history != 0 and clock != self._clock
+        self._clock_age = (0 if self._clock_moved else None if history == 0 or self._clock_age is None
+                           else self._clock_age + 1)
+        clock_stopped = self._clock_age == STOP_FRAMES
         values.update(u_buffer=bsize)
         self._compared = self._change = None
 
@@ -321,7 +327,7 @@ class CloudRenderer:
             self.units.bind(u_history=history.textures[0])
         # a running clock fades old frames out (at least 1/TAA_FRAMES each); a still one averages them all
         self._taa_samples = 1 if history is None else self._taa_samples + 1
-        if self._clock_moved:
+        if self.clock_running:
             self._taa_samples = min(self._taa_samples, TAA_FRAMES)
         self._draw("clouds_taa", out.fbo, values, **self.units.uniforms("u_current", "u_history"),
                    u_history_valid=int(history is not None), u_weight=1.0 / self._taa_samples)
@@ -329,6 +335,11 @@ class CloudRenderer:
             self._compared = (history.textures[0], out.textures[0])
         self._taa = out
         return out.textures[0]
+
+    @property
+    def clock_running(self) -> bool:
+        """Whether the clock moved within the last STOP_FRAMES frames (an animation, between its ticks too)."""
+        return self._clock_age is not None and self._clock_age < STOP_FRAMES
 
     def change(self) -> float | None:
         """How much the last frame changed the clouds its history held (CONVERGED's measure), or None where it
@@ -342,14 +353,17 @@ class CloudRenderer:
         frame's light; reprojection fills its blocks in d^2 frames; TAA, which has something to average only while
         the jitter moves, until a frame changes the clouds by less than CONVERGED (at most MAX_SETTLING frames).
         While the clock runs nothing converges: TAA fills its fading average in TAA_FRAMES frames (the animation
-        asks for the frames after)."""
+        asks for the frames after); once it has stood still for STOP_FRAMES frames it has stopped, and the still
+        view converges from there."""
         if not settings.debug_samples and self.tone_map.settling():
             return True
+        if self._clock_age is not None and 0 < self._clock_age < STOP_FRAMES:
+            return True  # still since a move: a gap between ticks, or a stop that frames to come will see
         averaging = settings.taa and settings.jitter
         frames = self.reprojected_frames if reprojects(settings) else self.taa_frames
         if reprojects(settings) and frames < settings.downsample ** 2:
             return True
-        if not averaging or frames >= (TAA_FRAMES if self._clock_moved else MAX_SETTLING):
+        if not averaging or frames >= (TAA_FRAMES if self.clock_running else MAX_SETTLING):
             return False
         change = self.change()
         return change is None or change >= CONVERGED
