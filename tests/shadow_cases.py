@@ -16,7 +16,9 @@ import numpy as np
 from app.bench.shadows import shadow_edge
 from app.gl.core.headless import OffscreenTarget
 from app.gl.core.shaders import ShaderLibrary
+from app.gl.core.stencil import StencilTarget
 from app.gl.lights3d.renderer import Lights3DRenderer
+from app.gl.lights3d.shadow_volume_pass import ShadowVolumePass
 from app.model.lights3d.scene import Light3D, Lights3DCamera, Object3D, Scene3D, default_scene
 from app.reference import lights3d as reference
 from app.resources import SHADERS
@@ -113,3 +115,11 @@ def renderer_and_target(gl, size):
     renderer.release()
     gl.detect_framebuffer(0).use()  # moderngl binds its last framebuffer again: never a deleted one
     target.release()
+
+
+def stencil_host(gl, size):
+    """A shadow-volume pass and a stencil target of `size` for a module's tests (a fixture's body: released after)."""
+    shadow_pass, target = ShadowVolumePass(gl, ShaderLibrary(gl, [SHADERS])), StencilTarget(gl, size)
+    yield shadow_pass, target
+    target.release()
+    shadow_pass.release()

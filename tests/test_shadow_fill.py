@@ -9,16 +9,17 @@ import pytest
 from app.gl.core.depth_bounds import EXTENSION, depth_bounds
 from app.gl.core.headless import OffscreenTarget
 from app.gl.core.shaders import ShaderLibrary
-from app.gl.core.stencil import GL, StencilTarget, clear_stencil
+from app.gl.core.stencil import GL, clear_stencil
 from app.gl.lights3d.caster_volumes import build
 from app.gl.lights3d.light_reach import depth_range, reach_box, reaches, span
 from app.gl.lights3d.renderer import Lights3DRenderer
-from app.gl.lights3d.shadow_volume_pass import ShadowVolumePass, shadowed
+from app.gl.lights3d.shadow_volume_pass import shadowed
 from app.gl.lights3d.shadow_volumes import VolumeGeometry
 from app.model.lights3d.scene import Light3D, Lights3DCamera, default_scene
 from app.reference import lights3d as reference
 from app.resources import SHADERS
 from tests.gl_state import differences, snapshot
+from tests.shadow_cases import stencil_host
 
 SIZE = (64, 48)
 # two triangles over the whole view at depth 0.5 (clip = world: the identity as view-projection)
@@ -28,10 +29,7 @@ SCREEN = VolumeGeometry(np.array([[-1, -1, 0, 1], [1, -1, 0, 1], [1, 1, 0, 1], [
 
 @pytest.fixture(scope="module")
 def host(gl):
-    shadow_pass, target = ShadowVolumePass(gl, ShaderLibrary(gl, [SHADERS])), StencilTarget(gl, SIZE)
-    yield shadow_pass, target
-    target.release()
-    shadow_pass.release()
+    yield from stencil_host(gl, SIZE)
 
 
 @pytest.mark.parametrize("depth", [0.0, 1.0], ids=["every depth test fails", "every one passes"])

@@ -6,12 +6,11 @@ import numpy as np
 import pytest
 
 from app.gl.lights3d.shadow_methods import SHADOW_VALUE
-from app.gl.lights3d.shadow_volume_pass import METHODS, ShadowVolumePass, shadowed, volume
+from app.gl.lights3d.shadow_volume_pass import METHODS, shadowed, volume
 from app.gl.lights3d.shadow_volumes import VolumeGeometry, facing_light, onepass_volume
-from app.gl.core.shaders import ShaderLibrary
-from app.gl.core.stencil import GL, StencilTarget, clear_stencil
-from app.resources import SHADERS
+from app.gl.core.stencil import GL, clear_stencil
 from tests.gl_state import differences, snapshot
+from tests.shadow_cases import stencil_host
 from tests.shadow_scenes import box, cpu_shadow, ground, in_shadow, soup, view_proj
 
 SIZE = (64, 64)
@@ -24,10 +23,7 @@ SIDE_VIEW = ((-4.0, 2.0, 1.5), (0.0, 0.7, 0.0))
 
 @pytest.fixture(scope="module")
 def host(gl):
-    shadow_pass, target = ShadowVolumePass(gl, ShaderLibrary(gl, [SHADERS])), StencilTarget(gl, SIZE)
-    yield shadow_pass, target
-    target.release()
-    shadow_pass.release()
+    yield from stencil_host(gl, SIZE)
 
 
 def draw_scene(host, view, near=0.1, casters=(BOX,), receivers=(GROUND,)):

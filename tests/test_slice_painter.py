@@ -3,20 +3,13 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, QPointF, QRect, Qt
 
+from painter_canvas import at, open_painter
+
 
 @pytest.fixture
 def painter(window, qtbot):
-    for line in ("workspace volume", "new 16 12 3", "slice z 1", "brush.color 255 0 0 255", "brush_size 1",
-                 "brush_round 1"):
-        assert window.run(line)
-    canvas = window.workspace_panels["volume"].canvas
-    canvas.update()
-    qtbot.waitUntil(lambda: canvas.zoom > 0)
-    return canvas
-
-
-def at(canvas, u, v):
-    return QPoint(int(canvas.offset.x() + (u + 0.5) * canvas.zoom), int(canvas.offset.y() + (v + 0.5) * canvas.zoom))
+    return open_painter(window, qtbot, ("workspace volume", "new 16 12 3", "slice z 1", "brush.color 255 0 0 255",
+                                        "brush_size 1", "brush_round 1"))
 
 
 def painted(volume):

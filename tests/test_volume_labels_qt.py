@@ -2,11 +2,12 @@
 label.* commands, the slice shows them over the scan, and the label row takes the colour button's place."""
 import numpy as np
 import pytest
-from PySide6.QtCore import QPoint, QTimer, Qt
+from PySide6.QtCore import QTimer, Qt
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QApplication, QColorDialog
 
 from app.model.volume.labels import DEFAULT_COLOURS
+from painter_canvas import at, open_painter
 
 
 @pytest.fixture
@@ -14,18 +15,8 @@ def scan_painter(window, qtbot, tmp_path):
     values = np.full((3, 12, 16), -1000, np.int16)
     values[:, :, :8] = 600  # bright on the left, air on the right
     np.save(tmp_path / "ct.npy", values)
-    for line in ("workspace volume", f"load {tmp_path / 'ct.npy'}", "vol.window -1000 600", "slice z 1",
-                 "brush_size 1", "brush_round 1", "brush_label 3"):
-        assert window.run(line)
-    window.refresh()
-    canvas = window.workspace_panels["volume"].canvas
-    canvas.update()
-    qtbot.waitUntil(lambda: canvas.zoom > 0)
-    return canvas
-
-
-def at(canvas, u, v):
-    return QPoint(int(canvas.offset.x() + (u + 0.5) * canvas.zoom), int(canvas.offset.y() + (v + 0.5) * canvas.zoom))
+    return open_painter(window, qtbot, ("workspace volume", f"load {tmp_path / 'ct.npy'}", "vol.window -1000 600",
+                                        "slice z 1", "brush_size 1", "brush_round 1", "brush_label 3"), refresh=True)
 
 
 def demo_lines(path) -> list[str]:

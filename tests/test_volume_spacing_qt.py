@@ -11,6 +11,7 @@ from PySide6.QtCore import QPoint, Qt
 from pydicom.data import get_testdata_file
 
 from dialogs import answer, said
+from painter_canvas import open_painter
 
 SERIES = Path(get_testdata_file("CT_small.dcm", download=False)).parent / "dicomdirtests" / "98892001" / "CT5N"
 
@@ -20,12 +21,8 @@ def volume(editor):
 
 
 def test_the_painter_shows_thick_slices_tall_and_paints_where_it_shows(window, qtbot):
-    for line in ("workspace volume", "new 16 12 6", "vol.spacing 0.5 0.5 2", "slice y 5", "brush.color 255 0 0 255",
-                 "brush_size 1"):
-        assert window.run(line)
-    canvas = window.workspace_panels["volume"].canvas
-    canvas.update()
-    qtbot.waitUntil(lambda: canvas.zoom > 0)
+    canvas = open_painter(window, qtbot, ("workspace volume", "new 16 12 6", "vol.spacing 0.5 0.5 2", "slice y 5",
+                                          "brush.color 255 0 0 255", "brush_size 1"))
     cu, cv = canvas.cell()
     assert cv == pytest.approx(4 * cu)  # a side view: voxels 0.5 mm wide, 2 mm tall
     centre = QPoint(int(canvas.offset.x() + 3.5 * cu), int(canvas.offset.y() + 4.5 * cv))
